@@ -1,0 +1,47 @@
+#pragma once
+// Axis-aligned bounding boxes. A default box is empty (min > max) and absorbs the first point.
+
+#include <algorithm>
+#include <limits>
+
+#include "penumbra/geometry/vec3.h"
+
+namespace penumbra {
+
+struct Box3 {
+  Vec3 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity()};
+  Vec3 max{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+           -std::numeric_limits<double>::infinity()};
+
+  bool isEmpty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+  void extend(const Vec3& p) {
+    min = componentMin(min, p);
+    max = componentMax(max, p);
+  }
+  void extend(const Box3& b) {
+    if (b.isEmpty()) return;
+    min = componentMin(min, b.min);
+    max = componentMax(max, b.max);
+  }
+  Vec3 center() const { return (min + max) * 0.5; }
+  Vec3 diagonal() const { return max - min; }
+  double diagonalLength() const { return isEmpty() ? 0 : length(diagonal()); }
+  // Closed-box tests: touching counts.
+  bool contains(const Vec3& p) const {
+    return p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z &&
+           p.z <= max.z;
+  }
+  bool overlaps(const Box3& b) const {
+    return min.x <= b.max.x && b.min.x <= max.x && min.y <= b.max.y && b.min.y <= max.y &&
+           min.z <= b.max.z && b.min.z <= max.z;
+  }
+  Box3 expanded(double margin) const {
+    Box3 r = *this;
+    r.min -= Vec3{margin, margin, margin};
+    r.max += Vec3{margin, margin, margin};
+    return r;
+  }
+};
+
+}  // namespace penumbra
