@@ -1,0 +1,135 @@
+#include "penumbra/scene/obj_mesh_reader.h"
+
+#include <tiny_obj_loader.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "penumbra/base/input_error.h"
+
+namespace penumbra {
+
+namespace {
+
+std::string at(const std::string& path, int line) { return path + ":" + std::to_string(line); }
+
+// Parses a finite double occupying the whole token.
+bool parseFiniteDouble(const std::string& token, double& value) {
+  if (token.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(token.c_str(), &end);
+  return end == token.c_str() + token.size() && errno != ERANGE && std::isfinite(value);
+}
+
+struct FaceStatement {
+  int line;
+  std::string materialName;  // the `usemtl` in force
+};
+
+// The checks tinyobjloader does not make, and what it forgets: the line of every `f` statement
+// and the `usemtl` name in force there (tinyobjloader drops names its MTL does not define, but the
+// scene's JSON materials may define them).
+std::vector<FaceStatement> prescan(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open OBJ file");
+  std::vector<FaceStatement> faceLines;
+  std::string currentMaterial;
+  long vertexCount = 0;
+  std::string text;
+  for (int line = 1; std::getline(in, text); ++line) {
+    std::istringstream tokens(text);
+    std::string keyword;
+    tokens >> keyword;
+    if (keyword == "v") {
+      double c[3];
+      std::string token;
+      for (double& value : c) {
+        if (!(tokens >> token) || !parseFiniteDouble(token, value))
+          throw InputError(at(path, line),
+                           "vertex needs 3 finite coordinates, got '" + text + "'");
+      }
+      ++vertexCount;
+    } else if (keyword == "f") {
+      std::string token;
+      int count = 0;
+      while (tokens >> token) {
+        const long index = std::strtol(token.c_str(), nullptr, 10);  // "i", "i/t", "i/t/n", "i//n"
+        const long resolved = index < 0 ? vertexCount + index + 1 : index;
+        if (index == 0 || resolved < 1 || resolved > vertexCount)
+          throw InputError(at(path, line), "face refers to vertex " + std::to_string(index) +
+                                               " but only " + std::to_string(vertexCount) +
+                                               " vertices are defined before it");
+        ++count;
+      }
+      if (count < 3)
+        throw InputError(at(path, line),
+                         "face with fewer than 3 vertices (" + std::to_string(count) + ")");
+      faceLines.push_back({line, currentMaterial});
+    } else if (keyword == "usemtl") {
+      tokens >> currentMaterial;
+    }
+  }
+  return faceLines;
+}
+
+Rgb toRgb(const tinyobj::real_t* c) { return {double(c[0]), double(c[1]), double(c[2])}; }
+
+}  // namespace
+
+ObjMesh readObjMesh(const std::string& path) {
+  const std::vector<FaceStatement> faceLines = prescan(path);
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;  // faces are polygons (DESIGN.md §4)
+  config.vertex_color = false;
+  const auto slash = path.find_last_of('/');
+  config.mtl_search_path = slash == std::string::npos ? "./" : path.substr(0, slash + 1);
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config)) {
+    std::string error = reader.Error();
+    while (!error.empty() && (error.back() == '\n' || error.back() == '.')) error.pop_back();
+    throw InputError(path, "cannot parse OBJ: " + error);
+  }
+  // tinyobjloader reports a missing or broken MTL only as a warning; a missing material
+  // definition must not silently turn into a default one.
+  if (reader.Warning().find("Material file [") != std::string::npos ||
+      reader.Warning().find("Failed to load material file") != std::string::npos)
+    throw InputError(path, "cannot load its MTL file: " + reader.Warning());
+
+  ObjMesh mesh;
+  mesh.path = path;
+  for (const tinyobj::material_t& m : reader.GetMaterials())
+    mesh.mtlMaterials.push_back({m.name, toRgb(m.diffuse), toRgb(m.emission)});
+
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  size_t faceIndex = 0;
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    size_t offset = 0;
+    for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++faceIndex) {
+      ObjFace face;
+      const int n = shape.mesh.num_face_vertices[f];
+      for (int k = 0; k < n; ++k) {
+        const int vi = shape.mesh.indices[offset + k].vertex_index;
+        face.vertices.push_back({attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
+                                 attrib.vertices[3 * vi + 2]});
+      }
+      offset += n;
+      if (faceIndex < faceLines.size()) {
+        face.line = faceLines[faceIndex].line;
+        face.materialName = faceLines[faceIndex].materialName;
+      }
+      mesh.faces.push_back(std::move(face));
+    }
+  }
+  if (mesh.faces.size() != faceLines.size())
+    throw InputError(path, "internal OBJ reader mismatch: " + std::to_string(faceLines.size()) +
+                               " face lines but " + std::to_string(mesh.faces.size()) +
+                               " faces parsed");
+  return mesh;
+}
+
+}  // namespace penumbra
