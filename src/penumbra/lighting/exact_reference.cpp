@@ -1,0 +1,161 @@
+#include "penumbra/lighting/exact_reference.h"
+
+#include <polyclipping/clipper.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "penumbra/lighting/form_factor.h"
+#include "penumbra/spatial/uniform_grid.h"
+
+namespace penumbra {
+
+namespace {
+
+// Polygons whose plane passes within this distance (relative to the scene's size) of the point
+// cannot hide any solid angle from it: they are skipped (this covers the receiver itself).
+constexpr double kCoplanarRelativeTolerance = 1e-12;
+// Integer coordinates: the light's extent maps to 2^60, below Clipper's 2^62 "hi range".
+constexpr double kClipperExtent = 1152921504606846976.0;  // 2^60
+
+// Andrew's monotone chain; counter-clockwise, no collinear points.
+Polygon2 convexHull(Polygon2 points) {
+  std::sort(points.begin(), points.end(),
+            [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  if (points.size() < 3) return points;
+  Polygon2 hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+}  // namespace
+
+ExactReference::ExactReference(const PosedScene& scene, const UniformGrid* grid)
+    : scene_(scene), grid_(grid) {}
+
+std::vector<PolygonId> ExactReference::candidateOccluders(const Box3& shaftBounds) const {
+  std::vector<PolygonId> candidates;
+  if (grid_) {
+    candidates = grid_->polygonsInBox(shaftBounds);
+  } else {
+    for (const WorldPolygon& q : scene_.polygons)
+      if (q.bounds.overlaps(shaftBounds)) candidates.push_back(q.id);
+  }
+  return candidates;
+}
+
+double ExactReference::unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const {
+  const WorldPolygon& l = scene_.polygons[light];
+  if (l.plane.signedDistance(p) <= 0) return 0;  // behind the emitting side
+  const Polygon3 clipped = clipByPlane(l.vertices, Plane{n, dot(n, p)});
+  return clipped.empty() ? 0 : pointToPolygonFormFactor(p, n, clipped);
+}
+
+VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonId lightId) const {
+  VisibleLight result;
+  result.light = lightId;
+  const WorldPolygon& light = scene_.polygons[lightId];
+  const Plane& lightPlane = light.plane;
+  const double pointHeight = lightPlane.signedDistance(p);
+  if (pointHeight <= 0) return result;  // lights emit from their front side only
+  const Polygon3 lit = clipByPlane(light.vertices, Plane{n, dot(n, p)});
+  if (lit.empty()) return result;
+
+  const PlaneFrame frame = PlaneFrame::fromPlane(lightPlane, centroid(light.vertices));
+  Polygon2 lit2;
+  for (const Vec3& x : lit) lit2.push_back(frame.toLocal(x));
+  double extent = 0;
+  for (const Vec2& q : lit2) extent = std::max({extent, std::abs(q.x), std::abs(q.y)});
+  const double scale = kClipperExtent / extent;
+  const auto toInt = [scale](const Vec2& q) {
+    return ClipperLib::IntPoint(ClipperLib::cInt(std::llround(q.x * scale)),
+                                ClipperLib::cInt(std::llround(q.y * scale)));
+  };
+
+  // The cone from p through the convex hull of the lit light: every point of it but the apex p is
+  // strictly closer to the light plane than p, so an occluder clipped to it projects to a finite
+  // place inside the hull (p itself lies on no considered occluder: those are skipped as coplanar).
+  const Polygon2 hull = convexHull(lit2);
+  std::vector<Plane> cone;
+  Vec3 hullCenter;
+  for (const Vec2& h : hull) hullCenter += frame.toWorld(h);
+  hullCenter = hullCenter / double(hull.size());
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Vec3 a = frame.toWorld(hull[i]), b = frame.toWorld(hull[(i + 1) % hull.size()]);
+    Vec3 normal = cross(a - p, b - p);
+    if (dot(normal, hullCenter - p) < 0) normal = -normal;
+    cone.push_back(Plane{normal, dot(normal, p)});  // unnormalized: only signs matter to clipping
+  }
+  cone.push_back(lightPlane);  // only what lies on p's side of the light can hide it
+
+  Box3 shaft = boundingBox(lit);
+  shaft.extend(p);
+  const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.bounds.diagonalLength();
+
+  ClipperLib::Paths occluders;
+  for (PolygonId id : candidateOccluders(shaft)) {
+    const WorldPolygon& q = scene_.polygons[id];
+    if (id == lightId || !q.bounds.overlaps(shaft)) continue;
+    if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) continue;
+    Polygon3 piece = q.vertices;
+    for (const Plane& plane : cone) {
+      piece = clipByPlane(piece, plane);
+      if (piece.empty()) break;
+    }
+    if (piece.empty()) continue;
+    ClipperLib::Path path;
+    path.reserve(piece.size());
+    bool inFront = false;
+    for (const Vec3& x : piece) {
+      // Central projection from p onto the light plane: p + (x − p)·s with n_L·(...) = offset.
+      const double drop = pointHeight - lightPlane.signedDistance(x);  // > 0 inside the cone
+      inFront = inFront || lightPlane.signedDistance(x) > 0;
+      const Vec3 onLight = p + (x - p) * (pointHeight / drop);
+      path.push_back(toInt(frame.toLocal(onLight)));
+    }
+    if (inFront) occluders.push_back(std::move(path));  // a piece lying in the light plane hides nothing
+  }
+
+  if (occluders.empty()) {
+    result.rings.push_back(lit);
+    return result;
+  }
+  ClipperLib::Path subject;
+  for (const Vec2& q : lit2) subject.push_back(toInt(q));
+  ClipperLib::Clipper clipper;
+  clipper.AddPath(subject, ClipperLib::ptSubject, true);
+  clipper.AddPaths(occluders, ClipperLib::ptClip, true);
+  ClipperLib::Paths visible;
+  clipper.Execute(ClipperLib::ctDifference, visible, ClipperLib::pftNonZero,
+                  ClipperLib::pftNonZero);
+  for (const ClipperLib::Path& ring : visible) {
+    Polygon3 ring3;
+    ring3.reserve(ring.size());
+    for (const ClipperLib::IntPoint& q : ring)
+      ring3.push_back(frame.toWorld({double(q.X) / scale, double(q.Y) / scale}));
+    result.rings.push_back(std::move(ring3));
+  }
+  return result;
+}
+
+Rgb ExactReference::irradiance(const Vec3& p, const Vec3& n) const {
+  Rgb total;
+  for (PolygonId lightId : scene_.lights) {
+    const VisibleLight visible = visibleLight(p, n, lightId);
+    double formFactor = 0;
+    for (const Polygon3& ring : visible.rings) formFactor += pointToPolygonFormFactor(p, n, ring);
+    total += scene_.materialOf(scene_.polygons[lightId]).emission * formFactor;
+  }
+  return total;
+}
+
+}  // namespace penumbra

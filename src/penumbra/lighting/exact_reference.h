@@ -1,0 +1,49 @@
+#pragma once
+// The exact reference of DESIGN.md §5: for a receiver point p with unit normal n, the part of each
+// light visible from p is computed by brute force — the light clipped to p's front half-space,
+// minus the central projection from p onto the light's plane of every other polygon that lies
+// between p and the light — and its irradiance by Lambert's formula over the visible region's
+// rings (outer boundaries and holes). Slow, simple, and independent of the engines: the oracle.
+//
+// Polygon booleans are Clipper's (Vatti's algorithm, 64-bit integer coordinates): the light's 2D
+// frame is scaled so that its extent maps to about 2^60, far finer than the doubles that feed it.
+
+#include <vector>
+
+#include "penumbra/base/rgb.h"
+#include "penumbra/scene/posed_scene.h"
+
+namespace penumbra {
+
+class UniformGrid;
+
+// The visible part of one light from a point, as rings on the light's plane: outer rings
+// counter-clockwise around the light's normal, holes clockwise.
+struct VisibleLight {
+  PolygonId light = 0;
+  std::vector<Polygon3> rings;
+};
+
+class ExactReference {
+ public:
+  // `grid` (optional, must outlive this) narrows the occluders considered for a point to those in
+  // the cells overlapping the bounding box of the point and the light; without it every polygon is
+  // tested. Both give the same answer.
+  explicit ExactReference(const PosedScene& scene, const UniformGrid* grid = nullptr);
+  ExactReference(PosedScene&&, const UniformGrid* = nullptr) = delete;  // keeps a reference
+
+  // Direct irradiance E(p) = Σ_lights M · F(p, V_light(p)) (W/m² per channel).
+  Rgb irradiance(const Vec3& p, const Vec3& n) const;
+  // The exact visible part of `light` from p (empty rings when nothing is visible).
+  VisibleLight visibleLight(const Vec3& p, const Vec3& n, PolygonId light) const;
+  // Unoccluded form factor of the whole light (clipped to p's front half-space).
+  double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
+
+ private:
+  std::vector<PolygonId> candidateOccluders(const Box3& shaftBounds) const;
+
+  const PosedScene& scene_;
+  const UniformGrid* grid_;
+};
+
+}  // namespace penumbra

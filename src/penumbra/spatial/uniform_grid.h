@@ -1,0 +1,66 @@
+#pragma once
+// The regular grid over the scene's bounding box (Loscos & Drettakis 1997 §3.1): each cell lists
+// the polygons that cut it. Discontinuity surfaces are cast through the same cells later, so cells
+// are addressed by a stable linear index and the traversal primitives (box, segment) are exposed.
+
+#include <array>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "penumbra/scene/posed_scene.h"
+
+namespace penumbra {
+
+struct GridResolution {
+  int nx = 1, ny = 1, nz = 1;
+  int cellCount() const { return nx * ny * nz; }
+};
+
+class UniformGrid {
+ public:
+  // About kCellsPerPolygon cells per polygon, shaped to the box so that cells are near-cubes.
+  static constexpr double kCellsPerPolygon = 1.0;
+  static constexpr int kMaxCellsPerAxis = 256;
+  static GridResolution chooseResolution(const Box3& bounds, int polygonCount);
+
+  // Uses chooseResolution unless `resolution` is given.
+  explicit UniformGrid(const PosedScene& scene, std::optional<GridResolution> resolution = {});
+
+  const GridResolution& resolution() const { return resolution_; }
+  const Box3& bounds() const { return bounds_; }
+  int cellIndex(int ix, int iy, int iz) const {
+    return ix + resolution_.nx * (iy + resolution_.ny * iz);
+  }
+  std::array<int, 3> cellCoordinates(int cell) const;
+  Box3 cellBounds(int cell) const;
+  const std::vector<PolygonId>& polygonsInCell(int cell) const { return cells_[cell]; }
+
+  // Cells whose closed bounds overlap `box` (clamped to the grid).
+  std::vector<int> cellsOverlappingBox(const Box3& box) const;
+  // Cells the closed segment ab passes through, in order from a (3D DDA, Amanatides & Woo 1987);
+  // the parts of the segment outside the grid are ignored.
+  std::vector<int> cellsAlongSegment(const Vec3& a, const Vec3& b) const;
+  // Distinct polygons listed in the cells overlapping `box`, sorted by id.
+  std::vector<PolygonId> polygonsInBox(const Box3& box) const;
+  // Distinct polygons listed in the cells along the segment, sorted by id.
+  std::vector<PolygonId> polygonsAlongSegment(const Vec3& a, const Vec3& b) const;
+
+  // Memory held by the per-cell lists (bytes), for reports.
+  size_t memoryBytes() const;
+  size_t totalEntries() const;
+
+ private:
+  std::array<int, 3> clampedCoordinates(const Vec3& p) const;
+
+  GridResolution resolution_;
+  Box3 bounds_;
+  Vec3 cellSize_;
+  std::vector<std::vector<PolygonId>> cells_;
+};
+
+// Whether a polygon has a point in the closed box (clips the polygon to the box's six planes).
+bool polygonCutsBox(const Polygon3& polygon, const Box3& box);
+
+}  // namespace penumbra

@@ -1,0 +1,124 @@
+#include "penumbra/lighting/exact_reference.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "penumbra/lighting/form_factor.h"
+#include "penumbra/spatial/uniform_grid.h"
+#include "support/scene_builder.h"
+
+namespace penumbra {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+double parallelCornerFormFactor(double a, double b, double c) {
+  const double ac = std::hypot(a, c), bc = std::hypot(b, c);
+  return (a / ac * std::atan(b / ac) + b / bc * std::atan(a / bc)) / kTwoPi;
+}
+// Form factor from the origin (normal +z) to the axis-aligned rectangle [x0,x1]x[y0,y1] at height
+// c, by inclusion-exclusion of corner rectangles (valid for any signs of the bounds).
+double parallelRectangleFormFactor(double x0, double x1, double y0, double y1, double c) {
+  const auto corner = [c](double x, double y) {
+    const double sx = x < 0 ? -1 : 1, sy = y < 0 ? -1 : 1;
+    return sx * sy * parallelCornerFormFactor(std::abs(x), std::abs(y), c);
+  };
+  return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
+}
+
+// A unit-exitance square light [-1,1]^2 at height 2 facing down, over a floor at z = 0.
+test::SceneBuilder lightOverFloor() {
+  test::SceneBuilder b;
+  b.addMaterial("lamp", {0, 0, 0}, {1, 1, 1});
+  b.addMaterial("white", {0.5, 0.5, 0.5});
+  b.addPolygon("lamp", {{-1, -1, 2}, {-1, 1, 2}, {1, 1, 2}, {1, -1, 2}});
+  b.addPolygon("white", {{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}});
+  return b;
+}
+
+TEST(ExactReference, UnoccludedMatchesClosedForm) {
+  const PosedScene scene = lightOverFloor().pose();
+  const ExactReference reference(scene);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-4, 4);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 p{u(rng), u(rng), 0};
+    const double expected = parallelRectangleFormFactor(-1 - p.x, 1 - p.x, -1 - p.y, 1 - p.y, 2);
+    EXPECT_NEAR(reference.irradiance(p, {0, 0, 1}).r, expected, 1e-13);
+  }
+}
+
+TEST(ExactReference, ParallelOccluderHidesItsProjection) {
+  // An occluder at height 1 covering x in [0, 3]: from the origin it hides the light where x > 0
+  // (central projection doubles distances at height 2), leaving the light's half x in [-1, 0].
+  test::SceneBuilder b = lightOverFloor();
+  b.addPolygon("white", {{0, -3, 1}, {3, -3, 1}, {3, 3, 1}, {0, 3, 1}});
+  const PosedScene scene = b.pose();
+  const ExactReference reference(scene);
+  const double expected = parallelRectangleFormFactor(-1, 0, -1, 1, 2);
+  EXPECT_NEAR(reference.irradiance({0, 0, 0}, {0, 0, 1}).r, expected, 1e-14);
+  // From (-0.25, 0, 0) the occluder edge projects to x = 0.25.
+  const double shifted = parallelRectangleFormFactor(-1 + 0.25, 0.25 + 0.25, -1, 1, 2);
+  EXPECT_NEAR(reference.irradiance({-0.25, 0, 0}, {0, 0, 1}).r, shifted, 1e-14);
+}
+
+TEST(ExactReference, HoleInTheVisibleLight) {
+  // A small square occluder [-0.1, 0.1]^2 at height 1 hides [-0.2, 0.2]^2 of the light from the
+  // origin: the visible region is a ring, whose form factor is outer minus inner.
+  test::SceneBuilder b = lightOverFloor();
+  b.addPolygon("white", {{-0.1, -0.1, 1}, {0.1, -0.1, 1}, {0.1, 0.1, 1}, {-0.1, 0.1, 1}});
+  const PosedScene scene = b.pose();
+  const ExactReference reference(scene);
+  const double expected =
+      parallelRectangleFormFactor(-1, 1, -1, 1, 2) - parallelRectangleFormFactor(-0.2, 0.2, -0.2, 0.2, 2);
+  EXPECT_NEAR(reference.irradiance({0, 0, 0}, {0, 0, 1}).r, expected, 1e-14);
+  const VisibleLight visible = reference.visibleLight({0, 0, 0}, {0, 0, 1}, 0);
+  EXPECT_EQ(visible.rings.size(), 2u);
+}
+
+TEST(ExactReference, UmbraAndBackFacingGiveZero) {
+  test::SceneBuilder b = lightOverFloor();
+  b.addPolygon("white", {{-3, -3, 1}, {3, -3, 1}, {3, 3, 1}, {-3, 3, 1}});
+  const PosedScene scene = b.pose();
+  const ExactReference reference(scene);
+  EXPECT_EQ(reference.irradiance({0, 0, 0}, {0, 0, 1}).r, 0.0);
+  // A point above the light sees its back: nothing.
+  const PosedScene openScene = lightOverFloor().pose();
+  const ExactReference open(openScene);
+  EXPECT_EQ(open.irradiance({0, 0, 3}, {0, 0, -1}).r, 0.0);
+  // A receiver facing away from the light gets nothing.
+  EXPECT_EQ(open.irradiance({0, 0, 0}, {0, 0, -1}).r, 0.0);
+}
+
+TEST(ExactReference, TiltedReceiverClipsTheLight) {
+  // A receiver whose tangent plane x = 0 cuts the light in half sees only the half x > 0.
+  const PosedScene scene = lightOverFloor().pose();
+  const ExactReference reference(scene);
+  const Vec3 p{0, 0, 0.5};
+  const Vec3 n{1, 0, 0};
+  const Polygon3 half{{0, -1, 2}, {0, 1, 2}, {1, 1, 2}, {1, -1, 2}};
+  EXPECT_NEAR(reference.irradiance(p, n).r, pointToPolygonFormFactor(p, n, half), 1e-15);
+}
+
+TEST(ExactReference, GridAndBruteForceAgree) {
+  test::SceneBuilder b = lightOverFloor();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-3, 3), h(0.2, 1.8), s(0.05, 0.4);
+  for (int i = 0; i < 40; ++i) {
+    const double x = u(rng), y = u(rng), z = h(rng), r = s(rng);
+    b.addPolygon("white", {{x - r, y - r, z}, {x + r, y - r, z + 0.1}, {x, y + r, z}});
+  }
+  const PosedScene scene = b.pose();
+  const UniformGrid grid(scene);
+  const ExactReference withGrid(scene, &grid), bruteForce(scene);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 p{u(rng), u(rng), 0};
+    EXPECT_EQ(withGrid.irradiance(p, {0, 0, 1}).r, bruteForce.irradiance(p, {0, 0, 1}).r);
+  }
+}
+
+}  // namespace
+}  // namespace penumbra
