@@ -1,1 +1,65 @@
-int main() { return 0; }
+// penumbra: the command-line front end (DESIGN.md §6). Exit codes: 0 ok, 1 usage, 2 bad input,
+// 3 verification failed.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "commands.h"
+#include "penumbra/base/input_error.h"
+
+using namespace penumbra::cli;
+
+int main(int argc, char** argv) {
+  CLI::App app{"Penumbra: lighting that stays correct while objects move"};
+  app.require_subcommand(1);
+  CommonOptions common;
+  app.add_flag("-q,--quiet", common.quiet, "No progress output on stderr");
+  app.add_option("--threads", common.threads, "Worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+
+  InfoOptions info;
+  CLI::App* infoCommand = app.add_subcommand("info", "Counts, bounds and closedness of a scene");
+  infoCommand->add_option("scene", info.scene, "Scene file (.json, .obj, .gltf, .glb)")->required();
+  infoCommand->add_option("--frame", info.frame, "Frame whose bounds to print");
+  infoCommand->add_flag("--json", info.json, "Print JSON instead of text");
+
+  ProbeOptions probe;
+  CLI::App* probeCommand = app.add_subcommand("probe", "Direct irradiance at points, as CSV");
+  probeCommand->add_option("scene", probe.scene, "Scene file")->required();
+  probeCommand->add_option("--points", probe.points, "Points file: x y z nx ny nz per line")
+      ->required();
+  probeCommand->add_option("--frame", probe.frame, "Frame of the scene's motion");
+  probeCommand->add_option("--method", probe.method, "reference | montecarlo | dm | radiosity");
+  probeCommand->add_flag("--full", probe.full, "Recompute the frame from scratch (no update)");
+  probeCommand->add_option("--samples", probe.samples,
+                           "Monte Carlo: light samples per light per batch")
+      ->check(CLI::PositiveNumber);
+  probeCommand->add_option("--batches", probe.batches,
+                           "Monte Carlo: independent batches for the standard error")
+      ->check(CLI::Range(2, 1 << 20));
+  probeCommand->add_option("--seed", probe.seed, "Monte Carlo: random seed");
+  probeCommand->add_flag("--with-error", probe.withError,
+                         "Monte Carlo: add r_stderr,g_stderr,b_stderr columns");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kOk : kUsage;
+  }
+
+  try {
+    if (*infoCommand) return runInfo(info, common);
+    if (*probeCommand) return runProbe(probe, common);
+  } catch (const penumbra::InputError& e) {
+    std::fprintf(stderr, "penumbra: error: %s\n", e.what());
+    return kBadInput;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "penumbra: usage error: %s\n", e.what());
+    return kUsage;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "penumbra: failed: %s\n", e.what());
+    return kBadInput;
+  }
+  return kUsage;
+}

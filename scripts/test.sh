@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs dependencies, builds and runs every test: the release preset, then the ASan+UBSan preset
+# (skip the sanitizer pass with PENUMBRA_SKIP_ASAN=1 for a quicker local run).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+jobs=$(nproc)
+
+cmake --preset release >/dev/null
+cmake --build --preset release -j "$jobs"
+ctest --preset release -j "$jobs"
+
+if [ "${PENUMBRA_SKIP_ASAN:-0}" != 1 ]; then
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan -j "$jobs"
+  ctest --preset asan -j "$jobs"
+fi

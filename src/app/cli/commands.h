@@ -1,0 +1,63 @@
+#pragma once
+// The verbs of `penumbra` (DESIGN.md §6). Each returns the process exit code; InputError and
+// UsageError propagate to main, which maps them to exit codes 2 and 1.
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace penumbra::cli {
+
+enum ExitCode { kOk = 0, kUsage = 1, kBadInput = 2, kVerificationFailed = 3 };
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct CommonOptions {
+  bool quiet = false;
+  int threads = 0;  // 0: all hardware threads
+};
+
+struct InfoOptions {
+  std::string scene;
+  std::optional<int> frame;
+  bool json = false;
+};
+int runInfo(const InfoOptions& options, const CommonOptions& common);
+
+struct ProbeOptions {
+  std::string scene;
+  std::string points;
+  int frame = 0;
+  std::string method = "reference";
+  bool full = false;
+  int samples = 256;  // Monte Carlo: samples per light per batch
+  int batches = 16;   // Monte Carlo: independent batches (standard error)
+  std::uint64_t seed = 1;
+  bool withError = false;
+};
+int runProbe(const ProbeOptions& options, const CommonOptions& common);
+
+struct RenderOptions {
+  std::string scene;
+  int frame = 0;
+  std::string method;
+  std::string output;
+  std::string size;  // WxH, empty: the scene camera's
+  int samplesPerPixel = 1;
+  double exposure = 0;  // 0: automatic
+  std::string exr;      // optional raw irradiance/radiance output
+};
+int runRender(const RenderOptions& options, const CommonOptions& common);
+
+struct GenerateOptions {
+  int polygons = 1000;
+  std::uint64_t seed = 1;
+  int frames = 4;
+  std::string output;
+};
+int runGenerate(const GenerateOptions& options, const CommonOptions& common);
+
+}  // namespace penumbra::cli

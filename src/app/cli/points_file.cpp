@@ -1,0 +1,50 @@
+#include "points_file.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "penumbra/base/input_error.h"
+
+namespace penumbra::cli {
+
+std::vector<ProbePoint> readPointsFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open points file");
+  std::vector<ProbePoint> points;
+  std::string text;
+  for (int line = 1; std::getline(in, text); ++line) {
+    const auto hash = text.find('#');
+    if (hash != std::string::npos) text.resize(hash);
+    std::istringstream tokens(text);
+    std::vector<double> values;
+    std::string token;
+    while (tokens >> token) {
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size() || errno == ERANGE || !std::isfinite(v))
+        throw InputError(path + ":" + std::to_string(line),
+                         "'" + token + "' is not a finite number");
+      values.push_back(v);
+    }
+    if (values.empty()) continue;
+    if (values.size() != 6)
+      throw InputError(path + ":" + std::to_string(line),
+                       "expected 6 numbers (x y z nx ny nz), got " + std::to_string(values.size()));
+    ProbePoint p;
+    p.position = {values[0], values[1], values[2]};
+    p.rawNormal = {values[3], values[4], values[5]};
+    const double len = length(p.rawNormal);
+    if (!(len > 0) || !std::isfinite(len))
+      throw InputError(path + ":" + std::to_string(line), "the normal is the zero vector");
+    p.normal = p.rawNormal / len;
+    p.line = line;
+    points.push_back(p);
+  }
+  return points;
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,66 @@
+// `penumbra probe SCENE --points FILE`: direct irradiance at given points (DESIGN.md §6).
+
+#include <cstdio>
+
+#include "commands.h"
+#include "penumbra/base/parallel_for.h"
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/uniform_grid.h"
+#include "points_file.h"
+#include "progress.h"
+
+namespace penumbra::cli {
+
+namespace {
+
+struct ProbeResult {
+  Rgb value;
+  Rgb standardError;
+};
+
+void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResult>& results,
+              bool withError) {
+  std::printf("x,y,z,nx,ny,nz,r,g,b%s\n", withError ? ",r_stderr,g_stderr,b_stderr" : "");
+  for (size_t i = 0; i < points.size(); ++i) {
+    const ProbePoint& p = points[i];
+    const Rgb& v = results[i].value;
+    std::printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", p.position.x,
+                p.position.y, p.position.z, p.rawNormal.x, p.rawNormal.y, p.rawNormal.z, v.r, v.g,
+                v.b);
+    if (withError) {
+      const Rgb& e = results[i].standardError;
+      std::printf(",%.17g,%.17g,%.17g", e.r, e.g, e.b);
+    }
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+
+int runProbe(const ProbeOptions& options, const CommonOptions& common) {
+  if (options.method != "reference")
+    throw UsageError("--method " + options.method +
+                     " is not available in this build (available: reference)");
+  const Scene scene = loadScene(options.scene);
+  if (options.frame < 0 || options.frame >= scene.frames)
+    throw UsageError("--frame " + std::to_string(options.frame) +
+                     " is outside the scene's frames 0.." + std::to_string(scene.frames - 1));
+  const std::vector<ProbePoint> points = readPointsFile(options.points);
+  const PosedScene posed = poseAt(scene, options.frame);
+  std::vector<ProbeResult> results(points.size());
+
+  {
+    const UniformGrid grid(posed);
+    const ExactReference reference(posed, &grid);
+    Progress progress("probe (reference)", (long long)points.size(), common.quiet);
+    parallelFor((long long)points.size(), common.threads, [&](long long i) {
+      results[i].value = reference.irradiance(points[i].position, points[i].normal);
+      progress.advance();
+    });
+  }
+  printCsv(points, results, options.withError);
+  return kOk;
+}
+
+}  // namespace penumbra::cli
