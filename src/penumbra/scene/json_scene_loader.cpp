@@ -192,6 +192,8 @@ class JsonSceneParser {
     } catch (const Json::parse_error& e) {
       throw InputError(path_ + ":" + lineAndColumn(text, e.byte > 0 ? e.byte - 1 : 0),
                        std::string("malformed JSON: ") + e.what());
+    } catch (const Json::exception& e) {  // e.g. a number too large for a double
+      throw InputError(path_, std::string("malformed JSON: ") + e.what());
     }
     const Node root(json, path_, "");
     root.requireObject({"penumbra", "materials", "objects", "camera", "frames"});

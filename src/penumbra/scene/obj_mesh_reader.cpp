@@ -30,13 +30,19 @@ struct FaceStatement {
   std::string materialName;  // the `usemtl` in force
 };
 
+struct Prescan {
+  std::vector<FaceStatement> faces;
+  std::vector<Vec3> vertices;  // parsed with strtod: correctly rounded, unlike tinyobjloader's
+};
+
 // The checks tinyobjloader does not make, and what it forgets: the line of every `f` statement
 // and the `usemtl` name in force there (tinyobjloader drops names its MTL does not define, but the
-// scene's JSON materials may define them).
-std::vector<FaceStatement> prescan(const std::string& path) {
+// scene's JSON materials may define them), and the vertex coordinates correctly rounded.
+Prescan prescan(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot open OBJ file");
-  std::vector<FaceStatement> faceLines;
+  Prescan result;
+  std::vector<FaceStatement>& faceLines = result.faces;
   std::string currentMaterial;
   long vertexCount = 0;
   std::string text;
@@ -52,6 +58,7 @@ std::vector<FaceStatement> prescan(const std::string& path) {
           throw InputError(at(path, line),
                            "vertex needs 3 finite coordinates, got '" + text + "'");
       }
+      result.vertices.push_back({c[0], c[1], c[2]});
       ++vertexCount;
     } else if (keyword == "f") {
       std::string token;
@@ -73,7 +80,7 @@ std::vector<FaceStatement> prescan(const std::string& path) {
       tokens >> currentMaterial;
     }
   }
-  return faceLines;
+  return result;
 }
 
 Rgb toRgb(const tinyobj::real_t* c) { return {double(c[0]), double(c[1]), double(c[2])}; }
@@ -81,7 +88,8 @@ Rgb toRgb(const tinyobj::real_t* c) { return {double(c[0]), double(c[1]), double
 }  // namespace
 
 ObjMesh readObjMesh(const std::string& path) {
-  const std::vector<FaceStatement> faceLines = prescan(path);
+  const Prescan scanned = prescan(path);
+  const std::vector<FaceStatement>& faceLines = scanned.faces;
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;  // faces are polygons (DESIGN.md §4)
@@ -105,7 +113,6 @@ ObjMesh readObjMesh(const std::string& path) {
   for (const tinyobj::material_t& m : reader.GetMaterials())
     mesh.mtlMaterials.push_back({m.name, toRgb(m.diffuse), toRgb(m.emission)});
 
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
   size_t faceIndex = 0;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     size_t offset = 0;
@@ -114,8 +121,7 @@ ObjMesh readObjMesh(const std::string& path) {
       const int n = shape.mesh.num_face_vertices[f];
       for (int k = 0; k < n; ++k) {
         const int vi = shape.mesh.indices[offset + k].vertex_index;
-        face.vertices.push_back({attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
-                                 attrib.vertices[3 * vi + 2]});
+        face.vertices.push_back(scanned.vertices.at(vi));
       }
       offset += n;
       if (faceIndex < faceLines.size()) {
