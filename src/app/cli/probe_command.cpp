@@ -5,7 +5,9 @@
 #include "commands.h"
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/lighting/exact_reference.h"
+#include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
 #include "points_file.h"
 #include "progress.h"
@@ -39,9 +41,9 @@ void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResu
 }  // namespace
 
 int runProbe(const ProbeOptions& options, const CommonOptions& common) {
-  if (options.method != "reference")
+  if (options.method != "reference" && options.method != "montecarlo")
     throw UsageError("--method " + options.method +
-                     " is not available in this build (available: reference)");
+                     " is not available in this build (available: reference, montecarlo)");
   const Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
     throw UsageError("--frame " + std::to_string(options.frame) +
@@ -50,12 +52,22 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
   const PosedScene posed = poseAt(scene, options.frame);
   std::vector<ProbeResult> results(points.size());
 
-  {
+  if (options.method == "reference") {
     const UniformGrid grid(posed);
     const ExactReference reference(posed, &grid);
     Progress progress("probe (reference)", (long long)points.size(), common.quiet);
     parallelFor((long long)points.size(), common.threads, [&](long long i) {
       results[i].value = reference.irradiance(points[i].position, points[i].normal);
+      progress.advance();
+    });
+  } else {
+    const RayCaster rays(posed);
+    const MonteCarloEstimator estimator(posed, rays);
+    const MonteCarloOptions mc{options.samples, options.batches, options.seed};
+    Progress progress("probe (Monte Carlo)", (long long)points.size(), common.quiet);
+    parallelFor((long long)points.size(), common.threads, [&](long long i) {
+      const MonteCarloEstimate e = estimator.irradiance(points[i].position, points[i].normal, mc);
+      results[i] = {e.mean, e.standardError};
       progress.advance();
     });
   }

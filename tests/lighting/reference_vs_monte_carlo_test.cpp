@@ -1,0 +1,148 @@
+// The exact reference against an independent estimator: Monte Carlo ray casting with Embree and
+// its standard error (independent batches). Over ≥ 1,000 random receiver points in scenes with
+// penumbrae, umbrae, non-convex occluders and two lights, every point must agree within 4 standard
+// errors, and the normalized differences z = (reference − MC)/SE must look like a standard normal
+// sample (mean ≈ 0, RMS ≈ 1): a biased reference would shift them long before a per-point
+// threshold notices.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/lighting/monte_carlo_estimator.h"
+#include "penumbra/spatial/ray_caster.h"
+#include "support/scene_builder.h"
+
+namespace penumbra {
+namespace {
+
+// Closed box faces, outward-facing, as one object.
+void addBox(test::SceneBuilder& b, const std::string& name, const Vec3& lo, const Vec3& hi) {
+  const double x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
+  for (const Polygon3& f : std::vector<Polygon3>{
+           {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
+           {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
+           {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
+           {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},
+           {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
+           {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}}})
+    b.addPolygon("white", f, name);
+}
+
+struct Probe {
+  Vec3 point, normal;
+};
+
+struct Agreement {
+  int points = 0, compared = 0, exact = 0;
+  double sumZ = 0, sumZ2 = 0, maxAbsZ = 0;
+};
+
+void compare(const PosedScene& scene, const std::vector<Probe>& probes, Agreement& agreement) {
+  const ExactReference reference(scene);
+  const RayCaster rays(scene);
+  const MonteCarloEstimator monteCarlo(scene, rays);
+  const MonteCarloOptions options{32, 64, 7};
+  for (const Probe& probe : probes) {
+    const Rgb exact = reference.irradiance(probe.point, probe.normal);
+    const MonteCarloEstimate mc = monteCarlo.irradiance(probe.point, probe.normal, options);
+    ++agreement.points;
+    for (int c = 0; c < 3; ++c) {
+      const double e = c == 0 ? exact.r : (c == 1 ? exact.g : exact.b);
+      const double m = c == 0 ? mc.mean.r : (c == 1 ? mc.mean.g : mc.mean.b);
+      const double se = c == 0 ? mc.standardError.r : (c == 1 ? mc.standardError.g : mc.standardError.b);
+      if (se == 0) {
+        // No variance: an umbra (or no light at all). The reference must be zero as well, up to
+        // the rounding of its polygon booleans.
+        EXPECT_NEAR(e, m, 1e-12) << "at " << probe.point;
+        ++agreement.exact;
+        continue;
+      }
+      const double z = (e - m) / se;
+      EXPECT_LE(std::abs(z), 4.0) << "at " << probe.point << " channel " << c << ": reference "
+                                  << e << ", Monte Carlo " << m << " ± " << se;
+      ++agreement.compared;
+      agreement.sumZ += z;
+      agreement.sumZ2 += z * z;
+      agreement.maxAbsZ = std::max(agreement.maxAbsZ, std::abs(z));
+    }
+  }
+}
+
+std::vector<Probe> floorProbes(int count, double half, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-half, half);
+  std::vector<Probe> probes;
+  for (int i = 0; i < count; ++i) probes.push_back({{u(rng), u(rng), 0}, {0, 0, 1}});
+  return probes;
+}
+
+TEST(ReferenceVsMonteCarlo, AgreeOverManyPointsAndScenes) {
+  Agreement agreement;
+
+  {  // A floating box under a square light: umbra, penumbra, lit.
+    test::SceneBuilder b;
+    b.addMaterial("lamp", {0, 0, 0}, {5, 5, 5}).addMaterial("white", {0.5, 0.5, 0.5});
+    b.addPolygon("lamp", {{-0.5, -0.5, 3}, {-0.5, 0.5, 3}, {0.5, 0.5, 3}, {0.5, -0.5, 3}});
+    b.addPolygon("white", {{-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}});
+    addBox(b, "box", {-0.4, -0.3, 1.0}, {0.3, 0.4, 1.5});
+    const PosedScene scene = b.pose();
+    compare(scene, floorProbes(350, 2.0, 1), agreement);
+  }
+  {  // Non-convex occluders (L and comb shapes, tilted) under a triangular light.
+    test::SceneBuilder b;
+    b.addMaterial("lamp", {0, 0, 0}, {3, 4, 5}).addMaterial("white", {0.5, 0.5, 0.5});
+    b.addPolygon("lamp", {{-0.8, -0.6, 2.5}, {0, 0.9, 2.5}, {0.7, -0.5, 2.5}});
+    b.addPolygon("white", {{-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}});
+    // An L in the tilted plane z = 1.2 + 0.125 (x + 0.6).
+    b.addPolygon("white", {{-0.6, -0.6, 1.2}, {0.2, -0.6, 1.3}, {0.2, -0.4, 1.3},
+                           {-0.4, -0.4, 1.225}, {-0.4, 0.5, 1.225}, {-0.6, 0.5, 1.2}});
+    b.addPolygon("white", {{0.1, 0.0, 0.8}, {0.9, 0.0, 0.8}, {0.9, 0.6, 0.8}, {0.75, 0.6, 0.8},
+                           {0.75, 0.1, 0.8}, {0.6, 0.1, 0.8}, {0.6, 0.6, 0.8}, {0.45, 0.6, 0.8},
+                           {0.45, 0.1, 0.8}, {0.3, 0.1, 0.8}, {0.3, 0.6, 0.8}, {0.1, 0.6, 0.8}});
+    const PosedScene scene = b.pose();
+    compare(scene, floorProbes(350, 1.8, 2), agreement);
+  }
+  {  // Two lights of different colours, random triangle occluders, tilted receivers.
+    test::SceneBuilder b;
+    b.addMaterial("red", {0, 0, 0}, {8, 1, 1}).addMaterial("blue", {0, 0, 0}, {1, 1, 8});
+    b.addMaterial("white", {0.5, 0.5, 0.5});
+    b.addPolygon("red", {{-2, -0.3, 2.5}, {-2, 0.3, 2.5}, {-1.4, 0.3, 2.5}, {-1.4, -0.3, 2.5}});
+    // The blue light is tilted, facing down and towards -x.
+    b.addPolygon("blue", {{1.5, -0.4, 2.6}, {1.5, 0.4, 2.6}, {1.9, 0.4, 2.0}, {1.9, -0.4, 2.0}});
+    b.addPolygon("white", {{-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}});
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1.5, 1.5), h(0.6, 1.6), s(0.1, 0.35);
+    for (int i = 0; i < 12; ++i) {
+      const Vec3 c{u(rng), u(rng), h(rng)};
+      const double r = s(rng);
+      b.addPolygon("white", {c + Vec3{-r, -r, 0.1}, c + Vec3{r, -r * 0.5, -0.1}, c + Vec3{0, r, 0.05}});
+    }
+    const PosedScene scene = b.pose();
+    std::vector<Probe> probes = floorProbes(250, 2.5, 4);
+    std::uniform_real_distribution<double> a(-1, 1);
+    for (int i = 0; i < 100; ++i) {  // receivers tilted every which way (but facing up-ish)
+      const Vec3 n = normalize(Vec3{a(rng), a(rng), 0.3 + std::abs(a(rng))});
+      probes.push_back({{u(rng), u(rng), 0.3}, n});
+    }
+    compare(scene, probes, agreement);
+  }
+
+  ASSERT_GE(agreement.points, 1000);
+  const double meanZ = agreement.sumZ / agreement.compared;
+  const double rmsZ = std::sqrt(agreement.sumZ2 / agreement.compared);
+  // For n independent-ish standard normals the mean has sd 1/√n; channels of one point are
+  // correlated, so allow 4/√(points). The RMS of 64-batch t statistics is ≈ 1.016.
+  EXPECT_LT(std::abs(meanZ), 4 / std::sqrt(double(agreement.points)));
+  EXPECT_GT(rmsZ, 0.85);
+  EXPECT_LT(rmsZ, 1.15);
+  RecordProperty("compared", agreement.compared);
+  RecordProperty("zero_variance", agreement.exact);
+  std::printf("points %d, compared %d, zero-variance %d, mean z %.4f, rms z %.4f, max |z| %.3f\n",
+              agreement.points, agreement.compared, agreement.exact, meanZ, rmsZ, agreement.maxAbsZ);
+}
+
+}  // namespace
+}  // namespace penumbra
