@@ -41,6 +41,30 @@ int main(int argc, char** argv) {
   probeCommand->add_flag("--with-error", probe.withError,
                          "Monte Carlo: add r_stderr,g_stderr,b_stderr columns");
 
+  RenderOptions render;
+  CLI::App* renderCommand = app.add_subcommand("render", "Render an image of a frame");
+  renderCommand->add_option("scene", render.scene, "Scene file")->required();
+  renderCommand->add_option("--frame", render.frame, "Frame of the scene's motion");
+  renderCommand->add_option("--method", render.method, "raytrace | dm | radiosity | volumes")
+      ->required();
+  renderCommand->add_option("-o,--output", render.output, "Output PNG")->required();
+  renderCommand->add_option("--size", render.size, "WxH (default: the scene camera's)");
+  renderCommand->add_option("--spp", render.samplesPerPixel, "Samples per pixel (antialiasing)")
+      ->check(CLI::Range(1, 4096));
+  renderCommand->add_option("--exposure", render.exposure, "Exposure (default: automatic)")
+      ->check(CLI::NonNegativeNumber);
+  renderCommand->add_option("--exr", render.exr, "Also write the raw irradiance as OpenEXR");
+
+  GenerateOptions generate;
+  CLI::App* generateCommand =
+      app.add_subcommand("generate", "Write a furnished room of about N polygons with a moving box");
+  generateCommand->add_option("--polygons", generate.polygons, "Target polygon count")
+      ->check(CLI::Range(50, 10000000));
+  generateCommand->add_option("--seed", generate.seed, "Random seed");
+  generateCommand->add_option("--frames", generate.frames, "Keyframes of the moving box")
+      ->check(CLI::Range(1, 100000));
+  generateCommand->add_option("-o,--output", generate.output, "Output scene JSON")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -51,6 +75,8 @@ int main(int argc, char** argv) {
   try {
     if (*infoCommand) return runInfo(info, common);
     if (*probeCommand) return runProbe(probe, common);
+    if (*renderCommand) return runRender(render, common);
+    if (*generateCommand) return runGenerate(generate, common);
   } catch (const penumbra::InputError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.what());
     return kBadInput;
