@@ -98,9 +98,11 @@ TEST(UniformGrid, BoxQueryFindsEveryPolygonInTheBox) {
     box.extend({u(rng), u(rng), u(rng)});
     box.extend({u(rng), u(rng), u(rng)});
     const std::vector<PolygonId> found = grid.polygonsInBox(box);
-    for (const WorldPolygon& p : scene.polygons)
-      if (polygonCutsBox(p.vertices, box))
+    for (const WorldPolygon& p : scene.polygons) {
+      if (polygonCutsBox(p.vertices, box)) {
         EXPECT_TRUE(std::binary_search(found.begin(), found.end(), p.id)) << p.id;
+      }
+    }
   }
 }
 
