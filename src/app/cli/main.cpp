@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     if (*infoCommand) return runInfo(info, common);
     if (*probeCommand) return runProbe(probe, common);
     if (*renderCommand) return runRender(render, common);
-    if (*generateCommand) throw UsageError("generate: pending merge");
+    if (*generateCommand) return runGenerate(generate, common);
   } catch (const penumbra::InputError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.what());
     return kBadInput;
