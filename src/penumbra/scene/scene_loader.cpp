@@ -64,9 +64,3 @@ Scene loadScene(const std::string& path) {
 
 }  // namespace penumbra
 
-// TEMPORARY until the glTF loader lands (same session): keeps the tree linkable.
-namespace penumbra {
-Scene loadGltfScene(const std::string& path) {
-  throw InputError(path, "glTF loading is not available in this build");
-}
-}  // namespace penumbra
