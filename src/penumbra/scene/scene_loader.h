@@ -16,8 +16,11 @@ Scene loadScene(const std::string& path);
 Scene loadJsonScene(const std::string& path);
 // A bare Wavefront OBJ (with its MTL) as a static scene of one object per OBJ object/group.
 Scene loadObjScene(const std::string& path);
+// glTF animations are sampled at integer frames f = 0, 1, ... at t = f / kGltfFramesPerSecond
+// seconds (film rate; docs/gltf.md).
+inline constexpr int kGltfFramesPerSecond = 24;
 // glTF 2.0 (.gltf or .glb): meshes, node transforms, emissive materials as lights, node
-// animations as keyframed motion.
+// animations as keyframed motion (docs/gltf.md gives the mapping).
 Scene loadGltfScene(const std::string& path);
 
 // Checks every polygon (finite, >= 3 distinct vertices, non-zero area, planar, simple), every
