@@ -93,6 +93,27 @@ TEST(ExactReference, UmbraAndBackFacingGiveZero) {
   EXPECT_EQ(open.irradiance({0, 0, 0}, {0, 0, -1}).r, 0.0);
 }
 
+TEST(ExactReference, ClosedSolidIsOpaqueWhateverItsFacesOrientation) {
+  // A closed box: its top face is seen from the front, its bottom face from the back. Their
+  // projections have opposite orientations and must not cancel in the union. The box covers the
+  // light's projection [-2,2]^2 at height 1..1.5 from the origin (it needs [-1,1]^2 at z = 1).
+  test::SceneBuilder b = lightOverFloor();
+  const double x0 = -1.2, x1 = 1.2, z0 = 1.0, z1 = 1.5;
+  for (const Polygon3& f : std::vector<Polygon3>{
+           {{x0, x0, z0}, {x0, x1, z0}, {x1, x1, z0}, {x1, x0, z0}},
+           {{x0, x0, z1}, {x1, x0, z1}, {x1, x1, z1}, {x0, x1, z1}}})
+    b.addPolygon("white", f, "box");
+  const PosedScene scene = b.pose();
+  const ExactReference reference(scene);
+  EXPECT_EQ(reference.irradiance({0, 0, 0}, {0, 0, 1}).r, 0.0);
+  // Half-covered from the side: the box's edge x = 1.2 at height 1.5 projects from (2, 0, 0) to
+  // x = 2 - 0.8·(2/1.5) ≈ 0.933; at height 1 to x = 0.4, so the top edge bounds the visible part.
+  const double edge = 2 - 0.8 * 2 / 1.5;
+  const Vec3 p{2, 0, 0};
+  EXPECT_NEAR(reference.irradiance(p, {0, 0, 1}).r,
+              parallelRectangleFormFactor(edge - 2, 1 - 2, -1, 1, 2), 1e-14);
+}
+
 TEST(ExactReference, TiltedReceiverClipsTheLight) {
   // A receiver whose tangent plane x = 0 cuts the light in half sees only the half x > 0.
   const PosedScene scene = lightOverFloor().pose();

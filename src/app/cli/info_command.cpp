@@ -56,7 +56,11 @@ int runInfo(const InfoOptions& options, const CommonOptions&) {
   std::printf("bounds (frames)  [%g, %g, %g] .. [%g, %g, %g]\n", allFrames.min.x,
               allFrames.min.y, allFrames.min.z, allFrames.max.x, allFrames.max.y,
               allFrames.max.z);
-  std::printf("closed           %s\n", closedness.isSceneClosed ? "yes" : "no");
+  if (closedness.isSceneClosed)
+    std::printf("closed           yes\n");
+  else
+    std::printf("closed           no (%d open edges, length %g)\n", closedness.sceneOpenEdgeCount,
+                closedness.sceneOpenEdgeLength);
   for (const ObjectClosedness& c : closedness.objects)
     if (!c.isClosed)
       std::printf("  open object    %s (%d open edges, length %g)\n",

@@ -122,7 +122,11 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
       const Vec3 onLight = p + (x - p) * (pointHeight / drop);
       path.push_back(toInt(frame.toLocal(onLight)));
     }
-    if (inFront) occluders.push_back(std::move(path));  // a piece lying in the light plane hides nothing
+    if (!inFront) continue;  // a piece lying in the light plane hides nothing
+    // Seen from its back a polygon projects clockwise; the union must not let a front and a back
+    // face of one solid cancel under the non-zero rule, so every occluder is made positive.
+    if (!ClipperLib::Orientation(path)) ClipperLib::ReversePath(path);
+    occluders.push_back(std::move(path));
   }
 
   if (occluders.empty()) {

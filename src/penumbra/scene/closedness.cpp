@@ -28,8 +28,8 @@ LineKey lineKey(const Vec3& a, const Vec3& b, double tolerance) {
           q(closest.x, tolerance), q(closest.y, tolerance), q(closest.z, tolerance)};
 }
 
-ObjectClosedness checkObject(int objectIndex, const std::vector<const WorldPolygon*>& polygons,
-                             double tolerance) {
+ObjectClosedness checkChain(int objectIndex, const std::vector<const WorldPolygon*>& polygons,
+                           double tolerance) {
   std::map<LineKey, std::vector<DirectedEdge>> lines;
   for (const WorldPolygon* polygon : polygons) {
     const Polygon3& v = polygon->vertices;
@@ -77,12 +77,19 @@ ClosednessReport checkClosedness(const Scene& scene, const PosedScene& posed) {
   ClosednessReport report;
   const double tolerance = 1e-9 * std::max(1.0, posed.bounds.diagonalLength());
   std::vector<std::vector<const WorldPolygon*>> byObject(scene.objects.size());
-  for (const WorldPolygon& p : posed.polygons) byObject[p.objectIndex].push_back(&p);
-  for (size_t i = 0; i < byObject.size(); ++i) {
-    ObjectClosedness c = checkObject(int(i), byObject[i], tolerance);
-    const bool isPanelLight = byObject[i].size() == 1 && byObject[i][0]->isLight;
-    if (!c.isClosed && !isPanelLight) report.isSceneClosed = false;
-    report.objects.push_back(c);
+  std::vector<const WorldPolygon*> all, nonEmitting;
+  for (const WorldPolygon& p : posed.polygons) {
+    byObject[p.objectIndex].push_back(&p);
+    all.push_back(&p);
+    if (!p.isLight) nonEmitting.push_back(&p);
+  }
+  for (size_t i = 0; i < byObject.size(); ++i)
+    report.objects.push_back(checkChain(int(i), byObject[i], tolerance));
+  const ObjectClosedness withoutLights = checkChain(-1, nonEmitting, tolerance);
+  report.isSceneClosed = withoutLights.isClosed || checkChain(-1, all, tolerance).isClosed;
+  if (!report.isSceneClosed) {
+    report.sceneOpenEdgeCount = withoutLights.openEdgeCount;
+    report.sceneOpenEdgeLength = withoutLights.openEdgeLength;
   }
   return report;
 }

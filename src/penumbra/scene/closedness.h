@@ -20,9 +20,12 @@ struct ObjectClosedness {
 };
 
 struct ClosednessReport {
-  std::vector<ObjectClosedness> objects;
-  // Every object is closed, except lights made of a single polygon (an emitting panel).
+  std::vector<ObjectClosedness> objects;  // each object on its own
+  // The scene's polygons together bound volumes: either all of them, or all but the lights
+  // (emitting panels are open surfaces; a room shell may be split over several objects).
   bool isSceneClosed = true;
+  int sceneOpenEdgeCount = 0;      // of the non-emitting polygons, when the scene is open
+  double sceneOpenEdgeLength = 0;  // likewise
 };
 
 ClosednessReport checkClosedness(const Scene& scene, const PosedScene& posed);
