@@ -10,5 +10,5 @@ cmake --build --preset release -j "$(nproc)"
 mkdir -p out
 scene=scenes/office-desk/desk-475.json
 build/bin/penumbra info "$scene"
-build/bin/penumbra render "$scene" --method raytrace --size 320x240 -o out/desk-475-raytrace.png
+build/bin/penumbra render "$scene" --method raytrace --size 640x480 -o out/desk-475-raytrace.png
 echo "wrote $(pwd)/out/desk-475-raytrace.png"

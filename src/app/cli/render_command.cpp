@@ -1,6 +1,7 @@
 // `penumbra render SCENE --method raytrace -o OUT.png`: images of a frame.
 
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 
 #include "commands.h"
@@ -66,6 +67,10 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   rt.onRowDone = [&](long long rows) { progress.advance(rows); };
   const RayTracedImage image = renderRayTraced(posed, camera, rays, reference, rt);
 
+  for (const std::string& path : {options.output, options.exr}) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
+  }
   const ToneMapping toneMapping{options.exposure > 0 ? options.exposure
                                                      : autoExposure(image.radiance)};
   writePng(image.radiance, toneMapping, options.output);
