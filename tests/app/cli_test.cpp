@@ -75,6 +75,25 @@ TEST(Cli, ProbeReferencePrintsCsvWithSeventeenDigits) {
   EXPECT_NE(umbra.output.find("0,0,0,0,0,2,0,0,0"), std::string::npos) << umbra.output;
 }
 
+TEST(Cli, ProbePointsRoundedOffTheirReceiverStillSeeTheLight) {
+  // A point written with rounding that puts it 1e-7 behind the floor is still on the floor: the
+  // floor must not occlude it.
+  test::TempDir dir;
+  const std::string scene = dir.write("scene.json", kScene);
+  const std::string points = dir.write("points.txt", "0 0 0 0 0 1\n0 0 -1e-7 0 0 1\n");
+  const RunResult r = runPenumbra("probe " + scene + " --points " + points + " --frame 1");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::istringstream lines(r.output);
+  std::string header, onFloor, behind;
+  std::getline(lines, header);
+  std::getline(lines, onFloor);
+  std::getline(lines, behind);
+  const double exact = std::stod(onFloor.substr(onFloor.rfind(',') + 1));
+  const double rounded = std::stod(behind.substr(behind.rfind(',') + 1));
+  EXPECT_GT(exact, 0.1);
+  EXPECT_NEAR(rounded, exact, 1e-6 * exact);
+}
+
 TEST(Cli, ExitCodesAndMessages) {
   test::TempDir dir;
   const std::string scene = dir.write("scene.json", kScene);

@@ -8,6 +8,7 @@
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/receiver_locator.h"
 #include "penumbra/spatial/uniform_grid.h"
 #include "points_file.h"
 #include "progress.h"
@@ -57,7 +58,10 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
     const ExactReference reference(posed, &grid);
     Progress progress("probe (reference)", (long long)points.size(), common.quiet);
     parallelFor((long long)points.size(), common.threads, [&](long long i) {
-      results[i].value = reference.irradiance(points[i].position, points[i].normal);
+      const auto receiver = locateReceiver(posed, grid, points[i].position, points[i].normal);
+      results[i].value = reference.irradiance(points[i].position, points[i].normal,
+                                              receiver ? std::optional(receiver->polygon)
+                                                       : std::nullopt);
       progress.advance();
     });
   } else {

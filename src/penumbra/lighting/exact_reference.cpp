@@ -60,7 +60,8 @@ double ExactReference::unoccludedFormFactor(const Vec3& p, const Vec3& n, Polygo
   return clipped.empty() ? 0 : pointToPolygonFormFactor(p, n, clipped);
 }
 
-VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonId lightId) const {
+VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonId lightId,
+                                          std::optional<PolygonId> receiver) const {
   VisibleLight result;
   result.light = lightId;
   const WorldPolygon& light = scene_.polygons[lightId];
@@ -104,7 +105,7 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   ClipperLib::Paths occluders;
   for (PolygonId id : candidateOccluders(shaft)) {
     const WorldPolygon& q = scene_.polygons[id];
-    if (id == lightId || !q.bounds.overlaps(shaft)) continue;
+    if (id == lightId || id == receiver || !q.bounds.overlaps(shaft)) continue;
     if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) continue;
     Polygon3 piece = q.vertices;
     for (const Plane& plane : cone) {
@@ -151,10 +152,11 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   return result;
 }
 
-Rgb ExactReference::irradiance(const Vec3& p, const Vec3& n) const {
+Rgb ExactReference::irradiance(const Vec3& p, const Vec3& n,
+                               std::optional<PolygonId> receiver) const {
   Rgb total;
   for (PolygonId lightId : scene_.lights) {
-    const VisibleLight visible = visibleLight(p, n, lightId);
+    const VisibleLight visible = visibleLight(p, n, lightId, receiver);
     double formFactor = 0;
     for (const Polygon3& ring : visible.rings) formFactor += pointToPolygonFormFactor(p, n, ring);
     total += scene_.materialOf(scene_.polygons[lightId]).emission * formFactor;

@@ -8,6 +8,7 @@
 // Polygon booleans are Clipper's (Vatti's algorithm, 64-bit integer coordinates): the light's 2D
 // frame is scaled so that its extent maps to about 2^60, far finer than the doubles that feed it.
 
+#include <optional>
 #include <vector>
 
 #include "penumbra/base/rgb.h"
@@ -32,10 +33,13 @@ class ExactReference {
   explicit ExactReference(const PosedScene& scene, const UniformGrid* grid = nullptr);
   ExactReference(PosedScene&&, const UniformGrid* = nullptr) = delete;  // keeps a reference
 
-  // Direct irradiance E(p) = Σ_lights M · F(p, V_light(p)) (W/m² per channel).
-  Rgb irradiance(const Vec3& p, const Vec3& n) const;
+  // Direct irradiance E(p) = Σ_lights M · F(p, V_light(p)) (W/m² per channel). `receiver`, when
+  // given, is the polygon p lies on: it never occludes, even when rounding puts p a little behind
+  // it (other polygons whose plane passes through p are skipped in any case).
+  Rgb irradiance(const Vec3& p, const Vec3& n, std::optional<PolygonId> receiver = {}) const;
   // The exact visible part of `light` from p (empty rings when nothing is visible).
-  VisibleLight visibleLight(const Vec3& p, const Vec3& n, PolygonId light) const;
+  VisibleLight visibleLight(const Vec3& p, const Vec3& n, PolygonId light,
+                            std::optional<PolygonId> receiver = {}) const;
   // Unoccluded form factor of the whole light (clipped to p's front half-space).
   double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
 

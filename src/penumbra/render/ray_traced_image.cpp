@@ -61,7 +61,7 @@ RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
         const Material& material = scene.materialOf(polygon);
         // Embree's hit point is single precision: put it back on the polygon's plane.
         const Vec3 p = polygon.plane.project(hit->point);
-        const Rgb e = reference.irradiance(p, polygon.plane.normal);
+        const Rgb e = reference.irradiance(p, polygon.plane.normal, polygon.id);
         irradiance += e;
         radiance += (material.reflectance * e + material.emission) / std::numbers::pi;
       }
