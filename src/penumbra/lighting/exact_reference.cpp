@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "penumbra/lighting/form_factor.h"
 #include "penumbra/spatial/uniform_grid.h"
@@ -42,15 +43,52 @@ Polygon2 convexHull(Polygon2 points) {
 ExactReference::ExactReference(const PosedScene& scene, const UniformGrid* grid)
     : scene_(scene), grid_(grid) {}
 
-std::vector<PolygonId> ExactReference::candidateOccluders(const Box3& shaftBounds) const {
-  std::vector<PolygonId> candidates;
-  if (grid_) {
-    candidates = grid_->polygonsInBox(shaftBounds);
-  } else {
+namespace {
+
+// Is the box entirely on the negative side of the plane (n·x < offset everywhere)?
+bool isBoxOutside(const Box3& box, const Plane& plane) {
+  const Vec3 farthest{plane.normal.x >= 0 ? box.max.x : box.min.x,
+                      plane.normal.y >= 0 ? box.max.y : box.min.y,
+                      plane.normal.z >= 0 ? box.max.z : box.min.z};
+  return plane.signedDistance(farthest) < 0;
+}
+
+bool isBoxOutsideAny(const Box3& box, const std::vector<Plane>& planes) {
+  for (const Plane& plane : planes)
+    if (isBoxOutside(box, plane)) return true;
+  return false;
+}
+
+// Per-thread visit marks: a polygon listed in several cells is processed once per query.
+// Marks only grow, so stale marks of earlier queries (or other scenes) never equal the current one.
+struct VisitMarks {
+  std::vector<std::uint64_t> marks;
+  std::uint64_t current = 0;
+};
+
+}  // namespace
+
+template <typename Visit>
+void ExactReference::forEachCandidateOccluder(const Box3& shaftBounds,
+                                              const std::vector<Plane>& shaftPlanes,
+                                              Visit&& visit) const {
+  if (!grid_) {
     for (const WorldPolygon& q : scene_.polygons)
-      if (q.bounds.overlaps(shaftBounds)) candidates.push_back(q.id);
+      if (q.bounds.overlaps(shaftBounds) && !isBoxOutsideAny(q.bounds, shaftPlanes)) visit(q);
+    return;
   }
-  return candidates;
+  thread_local VisitMarks visits;
+  if (visits.marks.size() < scene_.polygons.size()) visits.marks.resize(scene_.polygons.size(), 0);
+  const std::uint64_t mark = ++visits.current;
+  grid_->forEachCellOverlappingBox(shaftBounds, [&](int cell) {
+    if (isBoxOutsideAny(grid_->cellBounds(cell), shaftPlanes)) return;
+    for (PolygonId id : grid_->polygonsInCell(cell)) {
+      if (visits.marks[id] == mark) continue;
+      visits.marks[id] = mark;
+      const WorldPolygon& q = scene_.polygons[id];
+      if (q.bounds.overlaps(shaftBounds) && !isBoxOutsideAny(q.bounds, shaftPlanes)) visit(q);
+    }
+  });
 }
 
 double ExactReference::unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const {
@@ -103,16 +141,14 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.bounds.diagonalLength();
 
   ClipperLib::Paths occluders;
-  for (PolygonId id : candidateOccluders(shaft)) {
-    const WorldPolygon& q = scene_.polygons[id];
-    if (id == lightId || id == receiver || !q.bounds.overlaps(shaft)) continue;
-    if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) continue;
+  forEachCandidateOccluder(shaft, cone, [&](const WorldPolygon& q) {
+    if (q.id == lightId || q.id == receiver) return;
+    if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) return;
     Polygon3 piece = q.vertices;
     for (const Plane& plane : cone) {
       piece = clipByPlane(piece, plane);
-      if (piece.empty()) break;
+      if (piece.empty()) return;
     }
-    if (piece.empty()) continue;
     ClipperLib::Path path;
     path.reserve(piece.size());
     bool inFront = false;
@@ -123,12 +159,12 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
       const Vec3 onLight = p + (x - p) * (pointHeight / drop);
       path.push_back(toInt(frame.toLocal(onLight)));
     }
-    if (!inFront) continue;  // a piece lying in the light plane hides nothing
+    if (!inFront) return;  // a piece lying in the light plane hides nothing
     // Seen from its back a polygon projects clockwise; the union must not let a front and a back
     // face of one solid cancel under the non-zero rule, so every occluder is made positive.
     if (!ClipperLib::Orientation(path)) ClipperLib::ReversePath(path);
     occluders.push_back(std::move(path));
-  }
+  });
 
   if (occluders.empty()) {
     result.rings.push_back(lit);

@@ -44,7 +44,11 @@ class ExactReference {
   double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
 
  private:
-  std::vector<PolygonId> candidateOccluders(const Box3& shaftBounds) const;
+  // Calls visit(polygon) once for every polygon that may lie in the shaft (bounds overlap
+  // `shaftBounds` and are not entirely outside one of `shaftPlanes`).
+  template <typename Visit>
+  void forEachCandidateOccluder(const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes,
+                                Visit&& visit) const;
 
   const PosedScene& scene_;
   const UniformGrid* grid_;

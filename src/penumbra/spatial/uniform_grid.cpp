@@ -58,21 +58,22 @@ std::array<int, 3> UniformGrid::clampedCoordinates(const Vec3& p) const {
   return c;
 }
 
-std::vector<int> UniformGrid::cellsOverlappingBox(const Box3& box) const {
-  std::vector<int> out;
-  if (box.isEmpty() || !box.overlaps(bounds_)) return out;
+std::pair<std::array<int, 3>, std::array<int, 3>> UniformGrid::cellRangeOverlapping(
+    const Box3& box) const {
   // Expand by one cell where the box touches a cell boundary: closed-box semantics.
-  const auto lo = clampedCoordinates(box.min), hi = clampedCoordinates(box.max);
-  std::array<int, 3> first = lo, last = hi;
+  std::array<int, 3> first = clampedCoordinates(box.min), last = clampedCoordinates(box.max);
   const int n[3] = {resolution_.nx, resolution_.ny, resolution_.nz};
   for (int a = 0; a < 3; ++a) {
     if (first[a] > 0 && box.min[a] <= bounds_.min[a] + first[a] * cellSize_[a]) --first[a];
     if (last[a] < n[a] - 1 && box.max[a] >= bounds_.min[a] + (last[a] + 1) * cellSize_[a])
       ++last[a];
   }
-  for (int iz = first[2]; iz <= last[2]; ++iz)
-    for (int iy = first[1]; iy <= last[1]; ++iy)
-      for (int ix = first[0]; ix <= last[0]; ++ix) out.push_back(cellIndex(ix, iy, iz));
+  return {first, last};
+}
+
+std::vector<int> UniformGrid::cellsOverlappingBox(const Box3& box) const {
+  std::vector<int> out;
+  forEachCellOverlappingBox(box, [&](int cell) { out.push_back(cell); });
   return out;
 }
 

@@ -39,6 +39,15 @@ class UniformGrid {
 
   // Cells whose closed bounds overlap `box` (clamped to the grid).
   std::vector<int> cellsOverlappingBox(const Box3& box) const;
+  // The same cells, visited without allocating: visit(cellIndex).
+  template <typename Visit>
+  void forEachCellOverlappingBox(const Box3& box, Visit&& visit) const {
+    if (box.isEmpty() || !box.overlaps(bounds_)) return;
+    const auto [first, last] = cellRangeOverlapping(box);
+    for (int iz = first[2]; iz <= last[2]; ++iz)
+      for (int iy = first[1]; iy <= last[1]; ++iy)
+        for (int ix = first[0]; ix <= last[0]; ++ix) visit(cellIndex(ix, iy, iz));
+  }
   // Cells the closed segment ab passes through, in order from a (3D DDA, Amanatides & Woo 1987);
   // the parts of the segment outside the grid are ignored.
   std::vector<int> cellsAlongSegment(const Vec3& a, const Vec3& b) const;
@@ -53,6 +62,8 @@ class UniformGrid {
 
  private:
   std::array<int, 3> clampedCoordinates(const Vec3& p) const;
+  // Inclusive cell coordinate range of the cells overlapping a box that overlaps the grid.
+  std::pair<std::array<int, 3>, std::array<int, 3>> cellRangeOverlapping(const Box3& box) const;
 
   GridResolution resolution_;
   Box3 bounds_;

@@ -1,0 +1,172 @@
+// Cost of the exact reference irradiance per point against scene size (with and without the
+// grid's occluder culling), and the Monte Carlo estimator's error against its sample count at the
+// same points — measured side by side in one run, on one thread.
+//
+// Usage: reference_bench [--points N] [--quick]
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "penumbra/geometry/triangulation.h"
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/lighting/monte_carlo_estimator.h"
+#include "penumbra/scene/scene_generator.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/uniform_grid.h"
+
+using namespace penumbra;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+struct ReceiverPoint {
+  Vec3 p, n;
+  PolygonId receiver;
+};
+
+// Uniform random points on the non-emitting polygons' front sides (area-weighted).
+std::vector<ReceiverPoint> samplePoints(const PosedScene& scene, int count, std::uint64_t seed) {
+  struct Tri {
+    Vec3 a, b, c;
+    PolygonId id;
+    double area;
+  };
+  std::vector<Tri> tris;
+  double total = 0;
+  for (const WorldPolygon& p : scene.polygons) {
+    if (p.isLight) continue;
+    for (const auto& t : triangulate(p.vertices)) {
+      Tri tri{p.vertices[t[0]], p.vertices[t[1]], p.vertices[t[2]], p.id, 0};
+      tri.area = 0.5 * length(cross(tri.b - tri.a, tri.c - tri.a));
+      total += tri.area;
+      tris.push_back(tri);
+    }
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<ReceiverPoint> points;
+  for (int i = 0; i < count; ++i) {
+    double pick = u(rng) * total;
+    size_t k = 0;
+    while (k + 1 < tris.size() && pick > tris[k].area) pick -= tris[k++].area;
+    const double r1 = std::sqrt(u(rng)), r2 = u(rng);
+    const Tri& t = tris[k];
+    const Vec3 p = t.a * (1 - r1) + t.b * (r1 * (1 - r2)) + t.c * (r1 * r2);
+    points.push_back({p, scene.polygons[t.id].plane.normal, t.id});
+  }
+  return points;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int pointCount = 400;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--points") && i + 1 < argc) pointCount = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+  }
+  const std::string root = PENUMBRA_SOURCE_DIR;
+  std::vector<std::pair<std::string, std::string>> scenes = {
+      {"desk-145", root + "/scenes/office-desk/desk-145.json"},
+      {"desk-307", root + "/scenes/office-desk/desk-307.json"},
+      {"desk-475", root + "/scenes/office-desk/desk-475.json"},
+      {"furnished-room-1300", root + "/scenes/chair-room/furnished-room.json"}};
+  const auto tmp = std::filesystem::temp_directory_path() / "penumbra-bench";
+  std::filesystem::create_directories(tmp);
+  for (int n : quick ? std::vector<int>{1000} : std::vector<int>{1000, 10000, 100000}) {
+    const auto path = tmp / ("generated-" + std::to_string(n) + ".json");
+    std::ofstream(path) << generateSceneJson({n, 1, 4});
+    scenes.push_back({"generated-" + std::to_string(n), path.string()});
+  }
+
+  std::printf("# Exact reference: cost per point (one thread, %d random receiver points)\n",
+              pointCount);
+  std::printf("%-22s %9s %7s %12s %12s %10s %12s\n", "scene", "polygons", "lights", "grid us/pt",
+              "brute us/pt", "speed-up", "grid build s");
+  for (const auto& [name, path] : scenes) {
+    const Scene scene = loadScene(path);
+    const PosedScene posed = poseAt(scene, 0);
+    const auto points = samplePoints(posed, pointCount, 7);
+    auto start = Clock::now();
+    const UniformGrid grid(posed);
+    const double gridBuild = secondsSince(start);
+    const ExactReference withGrid(posed, &grid), bruteForce(posed);
+    double checksum = 0;
+    start = Clock::now();
+    for (const auto& q : points) checksum += withGrid.irradiance(q.p, q.n, q.receiver).r;
+    const double gridSeconds = secondsSince(start);
+    double bruteSeconds = 0;
+    const bool runBrute = true;
+    if (runBrute) {
+      double check2 = 0;
+      start = Clock::now();
+      for (const auto& q : points) check2 += bruteForce.irradiance(q.p, q.n, q.receiver).r;
+      bruteSeconds = secondsSince(start);
+      if (check2 != checksum) std::printf("  (grid and brute force differ: %.17g vs %.17g)\n", checksum, check2);
+    }
+    std::printf("%-22s %9zu %7zu %12.1f %12s %10s %12.3f\n", name.c_str(), posed.polygons.size(),
+                posed.lights.size(), 1e6 * gridSeconds / pointCount,
+                runBrute ? std::to_string(int(1e6 * bruteSeconds / pointCount)).c_str() : "-",
+                runBrute ? (std::to_string(bruteSeconds / gridSeconds).substr(0, 5) + "x").c_str() : "-",
+                gridBuild);
+  }
+
+  // Monte Carlo error against samples, at penumbra points of desk-475 (where 0 < E < unoccluded).
+  std::printf("\n# Monte Carlo vs exact at penumbra points of desk-475 (16 batches)\n");
+  const Scene desk = loadScene(root + "/scenes/office-desk/desk-475.json");
+  const PosedScene posed = poseAt(desk, 0);
+  const UniformGrid grid(posed);
+  const ExactReference reference(posed, &grid);
+  const RayCaster rays(posed);
+  const MonteCarloEstimator monteCarlo(posed, rays);
+  std::vector<ReceiverPoint> penumbra;
+  std::vector<double> exact;
+  for (const auto& q : samplePoints(posed, 20000, 11)) {
+    const double e = reference.irradiance(q.p, q.n, q.receiver).r;
+    double unoccluded = 0;
+    for (PolygonId l : posed.lights)
+      unoccluded += reference.unoccludedFormFactor(q.p, q.n, l) * posed.materialOf(posed.polygons[l]).emission.r;
+    if (e > 0.05 * unoccluded && e < 0.95 * unoccluded) {
+      penumbra.push_back(q);
+      exact.push_back(e);
+    }
+    if (penumbra.size() == 200) break;
+  }
+  auto start = Clock::now();
+  for (const auto& q : penumbra) (void)reference.irradiance(q.p, q.n, q.receiver);
+  const double exactSeconds = secondsSince(start) / penumbra.size();
+  std::printf("penumbra points: %zu; exact reference: %.1f us/point\n", penumbra.size(), 1e6 * exactSeconds);
+  std::printf("%12s %14s %14s %12s %16s\n", "rays/point", "rms rel error", "mean rel SE", "us/point",
+              "MC/exact time");
+  for (int samples : quick ? std::vector<int>{4, 64} : std::vector<int>{4, 16, 64, 256, 1024}) {
+    const MonteCarloOptions options{samples, 16, 3};
+    double sumSq = 0, sumSe = 0;
+    long long rayCount = 0;
+    start = Clock::now();
+    for (size_t i = 0; i < penumbra.size(); ++i) {
+      const MonteCarloEstimate e = monteCarlo.irradiance(penumbra[i].p, penumbra[i].n, options);
+      const double rel = (e.mean.r - exact[i]) / exact[i];
+      sumSq += rel * rel;
+      sumSe += e.standardError.r / exact[i];
+      rayCount += e.rays;
+    }
+    const double seconds = secondsSince(start) / penumbra.size();
+    std::printf("%12lld %14.2e %14.2e %12.1f %15.1fx\n", rayCount / (long long)penumbra.size(),
+                std::sqrt(sumSq / penumbra.size()), sumSe / penumbra.size(), 1e6 * seconds,
+                seconds / exactSeconds);
+  }
+  return 0;
+}
