@@ -1,0 +1,31 @@
+#include "penumbra/dm/discontinuity_surface.h"
+
+namespace penumbra {
+
+Vec3 CriticalFan::normal() const {
+  // Any two independent directions of the fan: S0→H0 and the moving one.
+  const Vec3 along = hinge0 - source0;
+  const Vec3 moving = (hinge1 - hinge0) + (source1 - source0);
+  return normalize(cross(moving, along));
+}
+
+double CriticalFan::criticalParameter(const Vec3& x) const {
+  // x lies on L(u) iff n · ((H(u) − S(u)) × (x − S(u))) = 0. With one of S, H fixed, the quadratic
+  // term is a cross product of a vector with itself, so the equation is linear in u: f(u) = f0 + u
+  // k.
+  const Vec3 n = normal();
+  const auto f = [&](double u) {
+    const Vec3 s = source(u);
+    return dot(n, cross(hinge(u) - s, x - s));
+  };
+  const double f0 = f(0), f1 = f(1);
+  return f0 / (f0 - f1);
+}
+
+double CriticalFan::depthParameter(const Vec3& x, double u) const {
+  const Vec3 s = source(u);
+  const Vec3 d = hinge(u) - s;
+  return dot(x - s, d) / dot(d, d);
+}
+
+}  // namespace penumbra

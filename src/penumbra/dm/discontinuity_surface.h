@@ -1,0 +1,69 @@
+#pragma once
+// Discontinuity surfaces (visual events) of a polygonal light (Drettakis & Fiume 1994; Loscos &
+// Drettakis 1997 §3). An EV surface is a planar fan of critical lines L(u), u in [0, 1], each
+// through a source point S(u) on the light and a hinge point H(u) on an occluder, one of the two
+// fixed:
+//   - emitter vertex: S = a light vertex (fixed), H(u) on an occluder edge;
+//   - emitter edge:   S(u) on a light edge, H = an occluder vertex (fixed).
+// L(u) is parameterized as S(u) + s (H(u) − S(u)): s in (0, 1) lies between light and hinge
+// (where anything blocks the event), s > 1 beyond the hinge (where the event meets receivers).
+// Each surface stores, for the incremental update, the grid cells it crosses and its
+// intersections with the scene's polygons before visibility (Loscos & Drettakis §3.3).
+
+#include <vector>
+
+#include "penumbra/scene/posed_scene.h"
+
+namespace penumbra {
+
+using SurfaceId = int;
+
+enum class SurfaceKind {
+  kEmitterVertexOccluderEdge,  // EV: light vertex, occluder edge
+  kEmitterEdgeOccluderVertex,  // EV: light edge, occluder vertex
+};
+
+struct CriticalFan {
+  Vec3 source0, source1;  // S(0), S(1): equal when the source is a light vertex
+  Vec3 hinge0, hinge1;    // H(0), H(1): equal when the hinge is an occluder vertex
+
+  Vec3 source(double u) const { return source0 + (source1 - source0) * u; }
+  Vec3 hinge(double u) const { return hinge0 + (hinge1 - hinge0) * u; }
+  Vec3 pointAt(double u, double s) const {
+    const Vec3 a = source(u);
+    return a + (hinge(u) - a) * s;
+  }
+  // Unit normal of the fan's plane.
+  Vec3 normal() const;
+  // The u of the critical line through x (x in the fan's plane), and x's s along it.
+  double criticalParameter(const Vec3& x) const;
+  double depthParameter(const Vec3& x, double u) const;
+};
+
+// Where a scene polygon cuts the fan (before visibility): a segment in the fan's plane.
+struct SurfaceIntersection {
+  PolygonId polygon = 0;
+  Vec3 p0, p1;
+};
+
+struct DiscontinuitySurface {
+  SurfaceId id = 0;
+  SurfaceKind kind = SurfaceKind::kEmitterVertexOccluderEdge;
+  PolygonId light = 0;
+  int lightFeature = 0;     // light vertex index, or light edge index (edge i: vertices i, i+1)
+  int occluderFeature = 0;  // EdgeId or VertexId of EdgeAdjacency
+  std::vector<PolygonId> hingePolygons;  // polygons incident to the hinge: never block the event
+  CriticalFan fan;
+  std::vector<int> cells;                          // grid cells the fan crosses (sorted)
+  std::vector<SurfaceIntersection> intersections;  // stored before visibility
+};
+
+// A visible piece of a surface on a receiver: an edge of that receiver's discontinuity mesh.
+struct DiscontinuitySegment {
+  SurfaceId surface = 0;
+  PolygonId receiver = 0;
+  Vec3 p0, p1;
+  double u0 = 0, u1 = 0;  // the critical lines through the endpoints
+};
+
+}  // namespace penumbra

@@ -1,0 +1,100 @@
+#include "penumbra/dm/edge_adjacency.h"
+
+#include <algorithm>
+#include <bit>
+#include <map>
+#include <tuple>
+
+#include "penumbra/geometry/predicates.h"
+
+namespace penumbra {
+
+namespace {
+
+using CoordinateKey = std::tuple<std::uint64_t, std::uint64_t, std::uint64_t>;
+
+// Exact identity of a point: its bit pattern (+0 and -0 unified).
+CoordinateKey keyOf(const Vec3& p) {
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v == 0 ? 0.0 : v); };
+  return {bits(p.x), bits(p.y), bits(p.z)};
+}
+
+bool arePolygonsCoplanar(const Polygon3& p, const Polygon3& q) {
+  // Three non-collinear vertices of p span its plane; every vertex of q must lie on it (exact).
+  for (size_t i = 2; i < p.size(); ++i) {
+    if (squaredLength(cross(p[1] - p[0], p[i] - p[0])) == 0) continue;
+    for (const Vec3& w : q)
+      if (orientation3d(p[0], p[1], p[i], w) != Sign::kZero) return false;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+EdgeAdjacency::EdgeAdjacency(const PosedScene& scene) : scene_(scene) {
+  std::map<CoordinateKey, VertexId> vertexIndex;
+  std::map<std::pair<VertexId, VertexId>, EdgeId> edgeIndex;
+  polygonVertices_.resize(scene.polygons.size());
+  for (const WorldPolygon& polygon : scene.polygons) {
+    std::vector<VertexId>& corners = polygonVertices_[polygon.id];
+    for (const Vec3& p : polygon.vertices) {
+      auto [it, inserted] = vertexIndex.emplace(keyOf(p), VertexId(vertices_.size()));
+      if (inserted) vertices_.push_back({p, {}, {}});
+      corners.push_back(it->second);
+      std::vector<PolygonId>& at = vertices_[it->second].polygons;
+      if (at.empty() || at.back() != polygon.id) at.push_back(polygon.id);
+    }
+    for (size_t i = 0; i < corners.size(); ++i) {
+      VertexId a = corners[i], b = corners[(i + 1) % corners.size()];
+      if (a == b) continue;
+      if (a > b) std::swap(a, b);
+      auto [it, inserted] = edgeIndex.emplace(std::pair{a, b}, EdgeId(edges_.size()));
+      if (inserted) {
+        edges_.push_back({a, b, {}, true});
+        vertices_[a].edges.push_back(it->second);
+        vertices_[b].edges.push_back(it->second);
+      }
+      edges_[it->second].polygons.push_back(polygon.id);
+    }
+  }
+  for (SceneEdge& e : edges_) {
+    if (e.polygons.size() == 2)
+      e.canBeSilhouette = !arePolygonsCoplanar(scene.polygons[e.polygons[0]].vertices,
+                                               scene.polygons[e.polygons[1]].vertices);
+  }
+}
+
+const Vec3* EdgeAdjacency::offEdgeVertex(PolygonId p, const SceneEdge& e) const {
+  const Vec3& a = vertices_[e.a].position;
+  const Vec3& b = vertices_[e.b].position;
+  for (const Vec3& w : scene_.polygons[p].vertices)
+    if (squaredLength(cross(b - a, w - a)) > 0) return &w;
+  return nullptr;
+}
+
+bool EdgeAdjacency::isSilhouetteFrom(EdgeId id, const Vec3& x) const {
+  const SceneEdge& e = edges_[id];
+  if (!e.canBeSilhouette) return false;
+  if (e.polygons.size() != 2) return true;
+  const Vec3& a = vertices_[e.a].position;
+  const Vec3& b = vertices_[e.b].position;
+  const Vec3* w1 = offEdgeVertex(e.polygons[0], e);
+  const Vec3* w2 = offEdgeVertex(e.polygons[1], e);
+  if (!w1 || !w2) return true;
+  const Sign s1 = orientation3d(a, b, x, *w1);
+  const Sign s2 = orientation3d(a, b, x, *w2);
+  // Opposite strict sides: the plane cuts through the dihedral, x sees one face from each side of
+  // the edge, so nothing appears or disappears there.
+  return !(s1 != Sign::kZero && s2 != Sign::kZero && s1 != s2);
+}
+
+bool EdgeAdjacency::canVertexBeSilhouette(VertexId v) const {
+  // Inside a flat region every edge at v joins two coplanar polygons; a corner of a flat region
+  // (a boundary edge at v) or any fold makes v a feature that light can graze.
+  for (EdgeId e : vertices_[v].edges)
+    if (edges_[e].canBeSilhouette) return true;
+  return false;
+}
+
+}  // namespace penumbra

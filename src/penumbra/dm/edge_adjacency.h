@@ -1,0 +1,58 @@
+#pragma once
+// Topology of the posed scene for visual events: vertices (identified by exact coordinates), edges
+// with their incident polygons, and the exact silhouette predicates the discontinuity surfaces
+// need. Only edges that can be silhouettes generate events: an edge between two coplanar polygons
+// never does, so a triangulated input yields the same events as its polygons (Drettakis & Fiume
+// 1994 §4; Loscos & Drettakis 1997 §3).
+
+#include <vector>
+
+#include "penumbra/scene/posed_scene.h"
+
+namespace penumbra {
+
+using VertexId = int;
+using EdgeId = int;
+
+struct SceneVertex {
+  Vec3 position;
+  std::vector<EdgeId> edges;
+  std::vector<PolygonId> polygons;
+};
+
+struct SceneEdge {
+  VertexId a = 0, b = 0;  // a < b
+  std::vector<PolygonId> polygons;
+  // False only when the edge joins exactly two coplanar polygons (a flat interior edge).
+  bool canBeSilhouette = true;
+};
+
+class EdgeAdjacency {
+ public:
+  explicit EdgeAdjacency(const PosedScene& scene);
+
+  const std::vector<SceneVertex>& vertices() const { return vertices_; }
+  const std::vector<SceneEdge>& edges() const { return edges_; }
+  const Vec3& position(VertexId v) const { return vertices_[v].position; }
+  // The vertex of each corner of each polygon.
+  const std::vector<VertexId>& polygonVertices(PolygonId p) const { return polygonVertices_[p]; }
+
+  // Is edge e a silhouette seen from point x: do its incident polygons lie on one side of the plane
+  // through x and e? Exact. True for boundary and non-manifold edges and when x is on that plane's
+  // degenerate configurations (conservative: an extra event only refines the mesh).
+  bool isSilhouetteFrom(EdgeId e, const Vec3& x) const;
+  // Can vertex v generate an event with a plane through it: false only inside a flat region (every
+  // edge at v is a flat interior edge). Conservative for now: saddle vertices are kept.
+  bool canVertexBeSilhouette(VertexId v) const;
+
+ private:
+  // A vertex of polygon p that is not on the line of edge e (for side tests).
+  const Vec3* offEdgeVertex(PolygonId p, const SceneEdge& e) const;
+
+  const PosedScene& scene_;
+  std::vector<SceneVertex> vertices_;
+  std::vector<SceneEdge> edges_;
+  std::vector<std::vector<VertexId>> polygonVertices_;
+};
+
+}  // namespace penumbra

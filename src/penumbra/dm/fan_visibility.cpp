@@ -1,0 +1,108 @@
+#include "penumbra/dm/fan_visibility.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace penumbra {
+
+namespace {
+
+struct Hit {
+  Vec3 point;
+  double s;
+};
+
+// Where the critical line L(u) meets segment [p0, p1] (both in the fan plane), if it does.
+std::optional<Hit> lineHit(const CriticalFan& fan, const Vec3& n, double u, const Vec3& p0,
+                           const Vec3& p1) {
+  const Vec3 s = fan.source(u);
+  const Vec3 d = fan.hinge(u) - s;
+  const Vec3 e = p1 - p0;
+  const double denominator = dot(n, cross(e, d));
+  if (denominator == 0) return std::nullopt;
+  const double lambda = dot(n, cross(s - p0, d)) / denominator;
+  if (lambda < 0 || lambda > 1) return std::nullopt;
+  const Vec3 x = p0 + e * lambda;
+  return Hit{x, fan.depthParameter(x, u)};
+}
+
+bool isHinge(const DiscontinuitySurface& surface, PolygonId polygon) {
+  return std::find(surface.hingePolygons.begin(), surface.hingePolygons.end(), polygon) !=
+         surface.hingePolygons.end();
+}
+
+}  // namespace
+
+std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& surface) {
+  const CriticalFan& fan = surface.fan;
+  const Vec3 n = fan.normal();
+  std::vector<const SurfaceIntersection*> records;
+  for (const SurfaceIntersection& r : surface.intersections)
+    if (!isHinge(surface, r.polygon)) records.push_back(&r);
+
+  std::vector<double> breaks{0, 1};
+  for (const SurfaceIntersection* r : records) {
+    for (const Vec3& x : {r->p0, r->p1}) {
+      const double u = fan.criticalParameter(x);
+      if (u > 0 && u < 1) breaks.push_back(u);
+    }
+  }
+  // Crossings of two stored segments change the depth order.
+  for (size_t i = 0; i < records.size(); ++i) {
+    for (size_t j = i + 1; j < records.size(); ++j) {
+      const Vec3 a = records[i]->p0, b = records[i]->p1, c = records[j]->p0, d = records[j]->p1;
+      const double den = dot(n, cross(b - a, d - c));
+      if (den == 0) continue;
+      const double t = dot(n, cross(c - a, d - c)) / den;
+      const double w = dot(n, cross(c - a, b - a)) / den;
+      if (t <= 0 || t >= 1 || w <= 0 || w >= 1) continue;
+      const double u = fan.criticalParameter(a + (b - a) * t);
+      if (u > 0 && u < 1) breaks.push_back(u);
+    }
+  }
+  std::sort(breaks.begin(), breaks.end());
+  // Breakpoints closer than rounding are one breakpoint (they bound no critical line of their own).
+  breaks.erase(
+      std::unique(breaks.begin(), breaks.end(), [](double a, double b) { return b - a <= 1e-14; }),
+      breaks.end());
+
+  std::vector<DiscontinuitySegment> out;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
+    const double u0 = breaks[k], u1 = breaks[k + 1];
+    const double mid = 0.5 * (u0 + u1);
+    const SurfaceIntersection* nearest = nullptr;
+    double nearestDepth = 0;
+    bool blocked = false;
+    for (const SurfaceIntersection* r : records) {
+      const auto hit = lineHit(fan, n, mid, r->p0, r->p1);
+      if (!hit) continue;
+      if (hit->s > 0 && hit->s < 1 - kHingeDepthTolerance) {
+        blocked = true;
+        break;
+      }
+      if (hit->s >= 1 - kHingeDepthTolerance && (!nearest || hit->s < nearestDepth)) {
+        nearest = r;
+        nearestDepth = hit->s;
+      }
+    }
+    if (blocked || !nearest || nearestDepth <= 1 + kHingeDepthTolerance) continue;
+    const auto h0 = lineHit(fan, n, u0, nearest->p0, nearest->p1);
+    const auto h1 = lineHit(fan, n, u1, nearest->p0, nearest->p1);
+    const Vec3 x0 =
+        h0 ? h0->point : (fan.criticalParameter(nearest->p0) < mid ? nearest->p0 : nearest->p1);
+    const Vec3 x1 =
+        h1 ? h1->point : (fan.criticalParameter(nearest->p0) < mid ? nearest->p1 : nearest->p0);
+    if (distance(x0, x1) == 0) continue;
+    if (!out.empty() && out.back().receiver == nearest->polygon && out.back().u1 == u0 &&
+        out.back().p1 == x0) {
+      out.back().p1 = x1;  // the same receiver continues: extend the piece
+      out.back().u1 = u1;
+      continue;
+    }
+    out.push_back({surface.id, nearest->polygon, x0, x1, u0, u1});
+  }
+  return out;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,91 @@
+#include "penumbra/dm/surface_casting.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "penumbra/geometry/predicates.h"
+
+namespace penumbra {
+
+Polygon3 boundedFan(const CriticalFan& fan, const Box3& sceneBounds) {
+  const double reach = 1.01 * sceneBounds.diagonalLength();
+  const auto far = [&](const Vec3& s, const Vec3& h) {
+    const Vec3 d = h - s;
+    return s + d * (1 + reach / length(d));
+  };
+  Polygon3 polygon{fan.source0};
+  if (!(fan.source1 == fan.source0)) polygon.push_back(fan.source1);
+  polygon.push_back(far(fan.source1, fan.hinge1));
+  polygon.push_back(far(fan.source0, fan.hinge0));
+  return polygon;
+}
+
+std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const Polygon3& convex) {
+  std::vector<std::pair<Vec3, Vec3>> out;
+  const Vec3 n = normalize(newellNormal(convex));
+  const Plane plane{n, dot(n, convex[0])};
+  // Signs are exact against the convex polygon's first three vertices; zero counts as positive
+  // (symbolic perturbation), so a vertex on the plane is crossed once, never twice.
+  const auto side = [&](const Vec3& v) {
+    return orientation3d(convex[0], convex[1], convex[2], v) == Sign::kNegative ? -1 : 1;
+  };
+  const Vec3 direction = cross(n, newellNormal(p));
+  if (squaredLength(direction) == 0) return out;  // parallel or coplanar
+  std::vector<double> crossings;
+  std::vector<Vec3> points;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Vec3& a = p[i];
+    const Vec3& b = p[(i + 1) % p.size()];
+    if (side(a) == side(b)) continue;
+    const double da = plane.signedDistance(a), db = plane.signedDistance(b);
+    const double t = da == db ? 0.5 : da / (da - db);
+    const Vec3 x = a + (b - a) * std::clamp(t, 0.0, 1.0);
+    crossings.push_back(dot(x, direction));
+    points.push_back(x);
+  }
+  std::vector<size_t> order(points.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t i, size_t j) { return crossings[i] < crossings[j]; });
+  // Inward edge normals of the convex polygon, in its plane.
+  for (size_t k = 0; k + 1 < order.size(); k += 2) {
+    Vec3 x0 = points[order[k]], x1 = points[order[k + 1]];
+    bool empty = false;
+    for (size_t i = 0; i < convex.size() && !empty; ++i) {
+      const Vec3& c = convex[i];
+      const Vec3 inward = cross(n, convex[(i + 1) % convex.size()] - c);
+      const double d0 = dot(x0 - c, inward), d1 = dot(x1 - c, inward);
+      if (d0 < 0 && d1 < 0)
+        empty = true;
+      else if (d0 < 0)
+        x0 = x0 + (x1 - x0) * (d0 / (d0 - d1));
+      else if (d1 < 0)
+        x1 = x1 + (x0 - x1) * (d1 / (d1 - d0));
+    }
+    if (!empty && !(x0 == x1)) out.push_back({x0, x1});
+  }
+  return out;
+}
+
+void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid) {
+  const Polygon3 fan = boundedFan(surface.fan, grid.bounds());
+  surface.cells.clear();
+  surface.intersections.clear();
+  std::vector<PolygonId> candidates;
+  grid.forEachCellOverlappingBox(boundingBox(fan), [&](int cell) {
+    if (!polygonCutsBox(fan, grid.cellBounds(cell))) return;
+    surface.cells.push_back(cell);
+    const auto& listed = grid.polygonsInCell(cell);
+    candidates.insert(candidates.end(), listed.begin(), listed.end());
+  });
+  std::sort(surface.cells.begin(), surface.cells.end());
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  for (PolygonId id : candidates) {
+    if (id == surface.light) continue;
+    for (const auto& [p0, p1] : intersectWithConvex(scene.polygons[id].vertices, fan))
+      surface.intersections.push_back({id, p0, p1});
+  }
+}
+
+}  // namespace penumbra

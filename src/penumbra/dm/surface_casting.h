@@ -1,0 +1,23 @@
+#pragma once
+// Casting a discontinuity surface through the regular grid (Loscos & Drettakis 1997 §3.1, §3.3):
+// the fan, bounded by the scene's box, is traced through the cells it crosses; the polygons listed
+// there are intersected with it, and the intersections are stored with the surface, before any
+// visibility decision, so that a later move can tell which surfaces an object's old and new
+// positions touch.
+
+#include "penumbra/dm/discontinuity_surface.h"
+#include "penumbra/spatial/uniform_grid.h"
+
+namespace penumbra {
+
+// The fan as a convex polygon from the light (s = 0) to beyond the scene's box.
+Polygon3 boundedFan(const CriticalFan& fan, const Box3& sceneBounds);
+
+// Fills surface.cells and surface.intersections (the light polygon itself is not intersected).
+void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid);
+
+// The parts of polygon `p` inside the convex planar polygon `convex` (both planar): segments
+// along the line where their planes meet. Empty when they are coplanar or do not meet.
+std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const Polygon3& convex);
+
+}  // namespace penumbra
