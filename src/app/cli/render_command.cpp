@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <regex>
 
 #include "commands.h"
 #include "penumbra/lighting/exact_reference.h"
@@ -31,12 +30,14 @@ Camera cameraFor(const Scene& scene, const PosedScene& posed) {
 }
 
 void parseSize(const std::string& size, Camera& camera) {
-  static const std::regex pattern(R"((\d{1,5})x(\d{1,5}))");
-  std::smatch m;
-  if (!std::regex_match(size, m, pattern))
+  const auto x = size.find('x');
+  const auto isNumber = [](const std::string& s) {
+    return !s.empty() && s.size() <= 5 && s.find_first_not_of("0123456789") == std::string::npos;
+  };
+  if (x == std::string::npos || !isNumber(size.substr(0, x)) || !isNumber(size.substr(x + 1)))
     throw UsageError("--size must look like 640x480, got '" + size + "'");
-  camera.width = std::stoi(m[1]);
-  camera.height = std::stoi(m[2]);
+  camera.width = std::stoi(size.substr(0, x));
+  camera.height = std::stoi(size.substr(x + 1));
   if (camera.width < 1 || camera.height < 1 || camera.width > 16384 || camera.height > 16384)
     throw UsageError("--size must lie in 1x1 .. 16384x16384");
 }
