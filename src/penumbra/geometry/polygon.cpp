@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "penumbra/geometry/predicates.h"
 
@@ -16,7 +17,9 @@ Vec3 newellNormal(const Polygon3& polygon) {
   return n;
 }
 
-double area(const Polygon3& polygon) { return 0.5 * length(newellNormal(polygon)); }
+double area(const Polygon3& polygon) {
+  return 0.5 * length(newellNormal(polygon));
+}
 
 Vec3 centroid(const Polygon3& polygon) {
   const Vec3 n = newellNormal(polygon);
@@ -67,10 +70,14 @@ Polygon3 clipByPlane(const Polygon3& polygon, const Plane& plane) {
     const double db = plane.signedDistance(b);
     if (da >= 0) out.push_back(a);
     if ((da >= 0) != (db >= 0)) {
-      // Interpolate from the vertex inside so that the new point is computed identically for the
-      // two edges that share the crossing (a->b and its twin in a neighbour).
-      const double t = da / (da - db);
-      out.push_back(a + (b - a) * t);
+      // Compute the crossing from the lexicographically smaller endpoint, so that the two polygons
+      // sharing this edge (traversing it in opposite directions) get bit-identical points: no
+      // slivers between the clipped pieces of a closed solid.
+      const bool fromA = std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+      const Vec3& p0 = fromA ? a : b;
+      const Vec3& p1 = fromA ? b : a;
+      const double d0 = fromA ? da : db, d1 = fromA ? db : da;
+      out.push_back(p0 + (p1 - p0) * (d0 / (d0 - d1)));
     }
   }
   if (out.size() < 3) out.clear();
@@ -156,8 +163,8 @@ std::optional<std::string> findPolygonDefect(const Polygon3& input,
   if (deviation > relativePlanarityTolerance * size) {
     std::ostringstream out;
     out << "non-planar polygon: a vertex lies " << deviation << " from its plane (tolerance "
-        << relativePlanarityTolerance * size << ", " << relativePlanarityTolerance
-        << " x its size " << size << ")";
+        << relativePlanarityTolerance * size << ", " << relativePlanarityTolerance << " x its size "
+        << size << ")";
     return out.str();
   }
   // Simplicity: no two non-adjacent edges meet, adjacent edges meet only at their shared vertex.

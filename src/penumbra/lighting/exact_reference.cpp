@@ -16,6 +16,8 @@ namespace {
 // Polygons whose plane passes within this distance (relative to the scene's size) of the point
 // cannot hide any solid angle from it: they are skipped (this covers the receiver itself).
 constexpr double kCoplanarRelativeTolerance = 1e-12;
+// Relative enlargement of the clipping cone beyond the light's hull.
+constexpr double kConeMargin = 0.01;
 // Integer coordinates: the light's extent maps to 2^60, below Clipper's 2^62 "hi range".
 constexpr double kClipperExtent = 1152921504606846976.0;  // 2^60
 
@@ -123,11 +125,14 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   // The cone from p through the convex hull of the lit light: every point of it but the apex p is
   // strictly closer to the light plane than p, so an occluder clipped to it projects to a finite
   // place inside the hull (p itself lies on no considered occluder: those are skipped as coplanar).
-  const Polygon2 hull = convexHull(lit2);
+  // The hull is enlarged by kConeMargin so that the cut lines of occluders lie outside the light:
+  // a cut running along a light edge would leave slivers one integer unit wide in the result.
+  Polygon2 hull = convexHull(lit2);
+  Vec2 hullCenter2;
+  for (const Vec2& h : hull) hullCenter2 = hullCenter2 + h * (1.0 / double(hull.size()));
+  for (Vec2& h : hull) h = hullCenter2 + (h - hullCenter2) * (1 + kConeMargin);
   std::vector<Plane> cone;
-  Vec3 hullCenter;
-  for (const Vec2& h : hull) hullCenter += frame.toWorld(h);
-  hullCenter = hullCenter / double(hull.size());
+  const Vec3 hullCenter = frame.toWorld(hullCenter2);
   for (size_t i = 0; i < hull.size(); ++i) {
     const Vec3 a = frame.toWorld(hull[i]), b = frame.toWorld(hull[(i + 1) % hull.size()]);
     Vec3 normal = cross(a - p, b - p);
@@ -178,7 +183,11 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   ClipperLib::Paths visible;
   clipper.Execute(ClipperLib::ctDifference, visible, ClipperLib::pftNonZero,
                   ClipperLib::pftNonZero);
+  // Touching configurations leave repeated vertices, spikes and zero-area slivers in the output;
+  // they carry no area (the integer grid is 2^-60 of the light), so drop them for clean rings.
+  ClipperLib::CleanPolygons(visible, 1.5);
   for (const ClipperLib::Path& ring : visible) {
+    if (ring.size() < 3 || ClipperLib::Area(ring) == 0) continue;
     Polygon3 ring3;
     ring3.reserve(ring.size());
     for (const ClipperLib::IntPoint& q : ring)

@@ -1,0 +1,73 @@
+#pragma once
+// Backprojections (Drettakis & Fiume 1994; Stewart & Ghali 1994): the visible part of a light seen
+// from a receiver point, as cycles of *labelled* vertices. A label names the scene features that
+// make the vertex — a light vertex; a light edge crossed by the projection of an occluder edge; the
+// projection of an occluder vertex; the crossing of two projected occluder edges; or a light or
+// occluder edge cut by the receiver's horizon (the plane of the point's tangent plane). The
+// labelled cycles are constant inside a face of the complete discontinuity mesh, so evaluating them
+// at any point of the face — recomputing each vertex from its features, seen from that point —
+// gives the exact visible light there, hence exact irradiance by Lambert's formula.
+//
+// A backprojection is computed at one point from the exact visible region (polygon booleans) and
+// each region vertex is labelled by the features that pass through it. A vertex that cannot be
+// labelled unambiguously (degenerate configurations) marks the backprojection unlabelled, and
+// evaluation then falls back to computing the visible region at the query point.
+
+#include <optional>
+#include <vector>
+
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/spatial/uniform_grid.h"
+
+namespace penumbra {
+
+// Edge `corner` → `corner + 1` of a polygon, or its vertex `corner`; resolved in the posed scene of
+// the frame being evaluated, so the label follows a moving object.
+struct FeatureRef {
+  PolygonId polygon = 0;
+  int corner = 0;
+  bool operator==(const FeatureRef&) const = default;
+};
+
+enum class BackprojectionVertexKind {
+  kLightVertex,               // light corner `lightFeature`
+  kLightEdgeHorizon,          // light edge `lightFeature` cut by the horizon
+  kLightEdgeOccluderEdge,     // light edge `lightFeature` crossed by projected edge `first`
+  kOccluderVertex,            // projection of vertex `first`
+  kOccluderEdgeOccluderEdge,  // crossing of projected edges `first` and `second`
+  kOccluderEdgeHorizon,       // projected edge `first` cut by the horizon
+};
+
+struct BackprojectionVertex {
+  BackprojectionVertexKind kind = BackprojectionVertexKind::kLightVertex;
+  int lightFeature = 0;
+  FeatureRef first, second;
+};
+
+struct Backprojection {
+  PolygonId light = 0;
+  bool isLabelled = true;  // false: evaluation recomputes the region at the query point
+  std::vector<std::vector<BackprojectionVertex>> cycles;  // orientation as the visible rings
+};
+
+class BackprojectionBuilder {
+ public:
+  BackprojectionBuilder(const PosedScene& scene, const UniformGrid& grid,
+                        const ExactReference& reference);
+
+  Backprojection compute(PolygonId light, const Vec3& p, const Vec3& n,
+                         std::optional<PolygonId> receiver) const;
+  // The visible rings of `backprojection` seen from q (normal n), exact while q stays in the region
+  // where the labels hold (a face of the complete mesh).
+  std::vector<Polygon3> evaluate(const Backprojection& backprojection, const Vec3& q, const Vec3& n,
+                                 std::optional<PolygonId> receiver) const;
+  Rgb irradiance(const std::vector<Backprojection>& perLight, const Vec3& q, const Vec3& n,
+                 std::optional<PolygonId> receiver) const;
+
+ private:
+  const PosedScene& scene_;
+  const UniformGrid& grid_;
+  const ExactReference& reference_;
+};
+
+}  // namespace penumbra
