@@ -1,0 +1,207 @@
+#include "penumbra/dm/receiver_mesh.h"
+
+#include <CGAL/Arr_consolidated_curve_data_traits_2.h>
+#include <CGAL/Arr_extended_dcel.h>
+#include <CGAL/Arr_segment_traits_2.h>
+#include <CGAL/Arr_walk_along_line_point_location.h>
+#include <CGAL/Arrangement_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+
+#include <algorithm>
+#include <map>
+
+namespace penumbra {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
+using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, SurfaceId>;
+// Faces carry their index among the receiver's inside faces (-1 outside).
+using Dcel = CGAL::Arr_face_extended_dcel<Traits, int>;
+using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
+using Point = Kernel::Point_2;
+using FT = Kernel::FT;
+using PointLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
+
+}  // namespace
+
+struct ReceiverMesh::Impl {
+  PolygonId receiver;
+  PlaneFrame frame;
+  Plane plane;
+  Polygon2 outline;
+  Arrangement arrangement;
+  PointLocation locator{arrangement};
+  std::vector<MeshFace> faces;
+
+  Point toPoint(const Vec3& p) const {
+    const Vec2 q = frame.toLocal(p);
+    return {q.x, q.y};
+  }
+  Vec3 toWorld(const Point& p) const {
+    return frame.toWorld({CGAL::to_double(p.x()), CGAL::to_double(p.y())});
+  }
+
+  // A point strictly inside face f: on a vertical line between the two leftmost distinct
+  // vertex abscissae, the face's boundary crossings alternate in and out; take the middle of the
+  // first interval. Exact.
+  std::optional<Point> interiorPoint(Arrangement::Face_const_handle f) const {
+    std::vector<Arrangement::Halfedge_const_handle> boundary;
+    const auto collect = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+      auto c = first;
+      do {
+        if (c->twin()->face() != f) boundary.push_back(c);  // antennas bound nothing
+      } while (++c != first);
+    };
+    if (f->has_outer_ccb()) collect(f->outer_ccb());
+    for (auto h = f->holes_begin(); h != f->holes_end(); ++h) collect(*h);
+    if (boundary.empty()) return std::nullopt;
+    std::vector<FT> xs;
+    for (auto h : boundary) xs.push_back(h->source()->point().x());
+    std::sort(xs.begin(), xs.end());
+    xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+    if (xs.size() < 2) return std::nullopt;
+    const FT x0 = (xs[0] + xs[1]) / 2;
+    std::vector<FT> ys;
+    for (auto h : boundary) {
+      const Point& a = h->source()->point();
+      const Point& b = h->target()->point();
+      if ((a.x() < x0) == (b.x() < x0)) continue;
+      ys.push_back(a.y() + (b.y() - a.y()) * (x0 - a.x()) / (b.x() - a.x()));
+    }
+    std::sort(ys.begin(), ys.end());
+    if (ys.size() < 2) return std::nullopt;
+    return Point(x0, (ys[0] + ys[1]) / 2);
+  }
+
+  void indexFaces() {
+    faces.clear();
+    for (auto f = arrangement.faces_begin(); f != arrangement.faces_end(); ++f) {
+      f->set_data(-1);
+      if (f->is_unbounded()) continue;
+      const auto inside = interiorPoint(f);
+      if (!inside) continue;
+      const Vec3 sample = toWorld(*inside);
+      if (!containsPoint(outline, frame.toLocal(sample))) continue;
+      double twiceArea = 0;
+      const auto ccbArea = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+        double sum = 0;
+        auto c = first;
+        do {
+          const Point& a = c->source()->point();
+          const Point& b = c->target()->point();
+          sum += CGAL::to_double(a.x() * b.y() - b.x() * a.y());
+        } while (++c != first);
+        return sum;
+      };
+      twiceArea += ccbArea(f->outer_ccb());
+      for (auto h = f->holes_begin(); h != f->holes_end(); ++h) twiceArea += ccbArea(*h);
+      f->set_data(int(faces.size()));
+      faces.push_back({int(faces.size()), sample, twiceArea / 2});
+    }
+  }
+};
+
+ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver) : impl_(std::make_unique<Impl>()) {
+  impl_->receiver = receiver.id;
+  impl_->plane = receiver.plane;
+  impl_->frame = PlaneFrame::fromPlane(receiver.plane, receiver.vertices[0]);
+  for (const Vec3& v : receiver.vertices) impl_->outline.push_back(impl_->frame.toLocal(v));
+  std::vector<Traits::Curve_2> boundary;
+  for (size_t i = 0; i < receiver.vertices.size(); ++i) {
+    const Point a = impl_->toPoint(receiver.vertices[i]);
+    const Point b = impl_->toPoint(receiver.vertices[(i + 1) % receiver.vertices.size()]);
+    if (a != b) boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), kBoundary));
+  }
+  CGAL::insert(impl_->arrangement, boundary.begin(), boundary.end());
+  impl_->indexFaces();
+}
+
+ReceiverMesh::~ReceiverMesh() = default;
+ReceiverMesh::ReceiverMesh(ReceiverMesh&&) noexcept = default;
+ReceiverMesh& ReceiverMesh::operator=(ReceiverMesh&&) noexcept = default;
+
+PolygonId ReceiverMesh::receiver() const { return impl_->receiver; }
+
+void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments) {
+  std::vector<Traits::Curve_2> curves;
+  curves.reserve(segments.size());
+  for (const DiscontinuitySegment& s : segments) {
+    const Point a = impl_->toPoint(s.p0), b = impl_->toPoint(s.p1);
+    if (a != b) curves.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), s.surface));
+  }
+  CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
+  impl_->indexFaces();
+}
+
+void ReceiverMesh::removeSurface(SurfaceId surface) {
+  std::vector<Arrangement::Halfedge_handle> doomed;
+  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
+    const auto& data = e->curve().data();
+    if (std::find(data.begin(), data.end(), surface) == data.end()) continue;
+    Traits::Data_container remaining = data;
+    remaining.erase(surface);
+    if (remaining.size() == 0) {
+      doomed.push_back(e);
+    } else {
+      impl_->arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), remaining));
+    }
+  }
+  for (auto e : doomed) impl_->arrangement.remove_edge(e);
+  impl_->indexFaces();
+}
+
+int ReceiverMesh::vertexCount() const { return int(impl_->arrangement.number_of_vertices()); }
+int ReceiverMesh::edgeCount() const { return int(impl_->arrangement.number_of_edges()); }
+const std::vector<MeshFace>& ReceiverMesh::faces() const { return impl_->faces; }
+
+std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
+  const auto result = impl_->locator.locate(impl_->toPoint(p));
+  Arrangement::Face_const_handle face;
+  if (const auto* f = boost::get<Arrangement::Face_const_handle>(&result)) {
+    face = *f;
+  } else if (const auto* h = boost::get<Arrangement::Halfedge_const_handle>(&result)) {
+    face = (*h)->face()->data() >= 0 ? (*h)->face() : (*h)->twin()->face();
+  } else if (const auto* v = boost::get<Arrangement::Vertex_const_handle>(&result)) {
+    auto c = (*v)->incident_halfedges();
+    const auto first = c;
+    face = c->face();
+    do {
+      if (c->face()->data() >= 0) {
+        face = c->face();
+        break;
+      }
+    } while (++c != first);
+  } else {
+    return std::nullopt;
+  }
+  if (face->data() < 0) return std::nullopt;
+  return face->data();
+}
+
+std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> ReceiverMesh::edges() const {
+  std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> out;
+  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
+    std::vector<SurfaceId> surfaces(e->curve().data().begin(), e->curve().data().end());
+    out.push_back({{impl_->toWorld(e->source()->point()), impl_->toWorld(e->target()->point())},
+                   std::move(surfaces)});
+  }
+  return out;
+}
+
+std::vector<Vec3> ReceiverMesh::vertexPositions() const {
+  std::vector<Vec3> out;
+  for (auto v = impl_->arrangement.vertices_begin(); v != impl_->arrangement.vertices_end(); ++v)
+    out.push_back(impl_->toWorld(v->point()));
+  return out;
+}
+
+size_t ReceiverMesh::memoryBytes() const {
+  // DCEL records plus the exact coordinates' lazy representations, estimated per record.
+  const auto& a = impl_->arrangement;
+  return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 120 +
+         a.number_of_faces() * 64 + impl_->faces.capacity() * sizeof(MeshFace);
+}
+
+}  // namespace penumbra

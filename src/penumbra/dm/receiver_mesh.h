@@ -1,0 +1,59 @@
+#pragma once
+// The planar discontinuity mesh of one receiver polygon: a half-edge arrangement (CGAL
+// Arrangement_2, exact constructions) in the receiver's plane, whose edges carry the set of
+// discontinuity surfaces that made them (or the receiver's boundary), with local insertion and
+// removal for the incremental update (Loscos & Drettakis 1997 §4). Faces inside the receiver are
+// indexed and given an interior sample point, where their backprojection is computed.
+//
+// CGAL stays inside receiver_mesh.cpp: this header only uses Penumbra's types.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "penumbra/dm/discontinuity_surface.h"
+
+namespace penumbra {
+
+struct MeshFace {
+  int index = 0;
+  Vec3 samplePoint;  // strictly inside the face (rounded to double from an exact construction)
+  double area = 0;
+};
+
+class ReceiverMesh {
+ public:
+  static constexpr SurfaceId kBoundary = -1;
+
+  // The mesh starts as the receiver polygon alone.
+  explicit ReceiverMesh(const WorldPolygon& receiver);
+  ~ReceiverMesh();
+  ReceiverMesh(ReceiverMesh&&) noexcept;
+  ReceiverMesh& operator=(ReceiverMesh&&) noexcept;
+
+  PolygonId receiver() const;
+  // Inserts segments lying on the receiver's plane (projected onto it), in one sweep.
+  // Overlapping pieces keep the union of their surfaces.
+  void insert(const std::vector<DiscontinuitySegment>& segments);
+  // Removes the surface from every edge; edges left with no surface disappear. Local: only the
+  // faces around those edges change.
+  void removeSurface(SurfaceId surface);
+
+  int vertexCount() const;
+  int edgeCount() const;
+  // Faces inside the receiver, indexed 0..n-1 in a stable order until the next edit.
+  const std::vector<MeshFace>& faces() const;
+  // The face containing p (p on the receiver's plane); a point on an edge or vertex gets one of
+  // the faces around it. Nothing when p is outside the receiver.
+  std::optional<int> locate(const Vec3& p) const;
+  // Every edge as a 3D segment with its surfaces (for drawing and statistics).
+  std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> edges() const;
+  std::vector<Vec3> vertexPositions() const;
+  size_t memoryBytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace penumbra
