@@ -37,6 +37,7 @@ struct ProbeOptions {
   int batches = 16;   // Monte Carlo: independent batches (standard error)
   std::uint64_t seed = 1;
   bool withError = false;
+  double tolerance = 1e-3;  // radiosity: refinement tolerance
 };
 int runProbe(const ProbeOptions& options, const CommonOptions& common);
 
@@ -47,10 +48,20 @@ struct RenderOptions {
   std::string output;
   std::string size;  // WxH, empty: the scene camera's
   int samplesPerPixel = 1;
-  double exposure = 0;  // 0: automatic
-  std::string exr;      // optional raw irradiance/radiance output
+  double exposure = 0;      // 0: automatic
+  std::string exr;          // optional raw irradiance/radiance output
+  double tolerance = 1e-3;  // radiosity: refinement tolerance
 };
 int runRender(const RenderOptions& options, const CommonOptions& common);
+
+struct RadiosityCommandOptions {
+  std::string scene;
+  std::string frames;  // A:B, empty: all frames
+  std::string update = "full";
+  double tolerance = 1e-3;
+  std::string report;
+};
+int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common);
 
 struct GenerateOptions {
   int polygons = 1000;

@@ -31,11 +31,12 @@ int main(int argc, char** argv) {
   probeCommand->add_option("--frame", probe.frame, "Frame of the scene's motion");
   probeCommand->add_option("--method", probe.method, "reference | montecarlo | dm | radiosity");
   probeCommand->add_flag("--full", probe.full, "Recompute the frame from scratch (no update)");
-  probeCommand->add_option("--samples", probe.samples,
-                           "Monte Carlo: light samples per light per batch")
+  probeCommand
+      ->add_option("--samples", probe.samples, "Monte Carlo: light samples per light per batch")
       ->check(CLI::PositiveNumber);
-  probeCommand->add_option("--batches", probe.batches,
-                           "Monte Carlo: independent batches for the standard error")
+  probeCommand
+      ->add_option("--batches", probe.batches,
+                   "Monte Carlo: independent batches for the standard error")
       ->check(CLI::Range(2, 1 << 20));
   probeCommand->add_option("--seed", probe.seed, "Monte Carlo: random seed");
   probeCommand->add_flag("--with-error", probe.withError,
@@ -55,9 +56,24 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   renderCommand->add_option("--exr", render.exr, "Also write the raw irradiance as OpenEXR");
 
+  probeCommand->add_option("--tolerance", probe.tolerance, "Radiosity: refinement tolerance")
+      ->check(CLI::PositiveNumber);
+  renderCommand->add_option("--tolerance", render.tolerance, "Radiosity: refinement tolerance")
+      ->check(CLI::PositiveNumber);
+
+  RadiosityCommandOptions radiosity;
+  CLI::App* radiosityCommand =
+      app.add_subcommand("radiosity", "Hierarchical radiosity over frames, with a JSON report");
+  radiosityCommand->add_option("scene", radiosity.scene, "Scene file")->required();
+  radiosityCommand->add_option("--frames", radiosity.frames, "Frames A:B (default: all)");
+  radiosityCommand->add_option("--update", radiosity.update, "full (linespace: later)");
+  radiosityCommand->add_option("--tolerance", radiosity.tolerance, "Refinement tolerance")
+      ->check(CLI::PositiveNumber);
+  radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
+
   GenerateOptions generate;
-  CLI::App* generateCommand =
-      app.add_subcommand("generate", "Write a furnished room of about N polygons with a moving box");
+  CLI::App* generateCommand = app.add_subcommand(
+      "generate", "Write a furnished room of about N polygons with a moving box");
   generateCommand->add_option("--polygons", generate.polygons, "Target polygon count")
       ->check(CLI::Range(50, 10000000));
   generateCommand->add_option("--seed", generate.seed, "Random seed");
@@ -77,6 +93,7 @@ int main(int argc, char** argv) {
     if (*probeCommand) return runProbe(probe, common);
     if (*renderCommand) return runRender(render, common);
     if (*generateCommand) return runGenerate(generate, common);
+    if (*radiosityCommand) return runRadiosity(radiosity, common);
   } catch (const penumbra::InputError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.what());
     return kBadInput;

@@ -3,9 +3,11 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "penumbra/base/input_error.h"
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
+#include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/receiver_locator.h"
@@ -28,9 +30,8 @@ void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResu
   for (size_t i = 0; i < points.size(); ++i) {
     const ProbePoint& p = points[i];
     const Rgb& v = results[i].value;
-    std::printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", p.position.x,
-                p.position.y, p.position.z, p.rawNormal.x, p.rawNormal.y, p.rawNormal.z, v.r, v.g,
-                v.b);
+    std::printf("%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", p.position.x, p.position.y,
+                p.position.z, p.rawNormal.x, p.rawNormal.y, p.rawNormal.z, v.r, v.g, v.b);
     if (withError) {
       const Rgb& e = results[i].standardError;
       std::printf(",%.17g,%.17g,%.17g", e.r, e.g, e.b);
@@ -42,9 +43,11 @@ void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResu
 }  // namespace
 
 int runProbe(const ProbeOptions& options, const CommonOptions& common) {
-  if (options.method != "reference" && options.method != "montecarlo")
+  if (options.method != "reference" && options.method != "montecarlo" &&
+      options.method != "radiosity")
     throw UsageError("--method " + options.method +
-                     " is not available in this build (available: reference, montecarlo)");
+                     " is not available in this build (available: reference, montecarlo, "
+                     "radiosity)");
   const Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
     throw UsageError("--frame " + std::to_string(options.frame) +
@@ -59,11 +62,24 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
     Progress progress("probe (reference)", (long long)points.size(), common.quiet);
     parallelFor((long long)points.size(), common.threads, [&](long long i) {
       const auto receiver = locateReceiver(posed, grid, points[i].position, points[i].normal);
-      results[i].value = reference.irradiance(points[i].position, points[i].normal,
-                                              receiver ? std::optional(receiver->polygon)
-                                                       : std::nullopt);
+      results[i].value =
+          reference.irradiance(points[i].position, points[i].normal,
+                               receiver ? std::optional(receiver->polygon) : std::nullopt);
       progress.advance();
     });
+  } else if (options.method == "radiosity") {
+    // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
+    RadiosityOptions radiosityOptions;
+    radiosityOptions.tolerance = options.tolerance;
+    RadiositySolver solver(radiosityOptions);
+    solver.build(posed);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto sample = solver.sample(points[i].position, points[i].normal);
+      if (!sample)
+        throw InputError(options.points + ":" + std::to_string(points[i].line),
+                         "the point lies on no receiver facing its normal");
+      results[i].value = sample->total();
+    }
   } else {
     const RayCaster rays(posed);
     const MonteCarloEstimator estimator(posed, rays);

@@ -5,7 +5,10 @@
 
 #include "commands.h"
 #include "penumbra/lighting/exact_reference.h"
+#include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/render/exr_io.h"
+#include "penumbra/render/gl_context.h"
+#include "penumbra/render/mesh_renderer.h"
 #include "penumbra/render/png_writer.h"
 #include "penumbra/render/ray_traced_image.h"
 #include "penumbra/render/tone_mapping.h"
@@ -42,12 +45,29 @@ void parseSize(const std::string& size, Camera& camera) {
     throw UsageError("--size must lie in 1x1 .. 16384x16384");
 }
 
+// The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
+Image renderRadiosity(const PosedScene& posed, const Camera& camera, double tolerance) {
+  RadiosityOptions radiosityOptions;
+  radiosityOptions.tolerance = tolerance;
+  RadiositySolver solver(radiosityOptions);
+  solver.build(posed);
+  const RadiosityMesh& solution = solver.mesh();
+  ColoredMesh mesh;
+  mesh.positions = solution.positions;
+  mesh.indices = solution.indices;
+  mesh.colors.reserve(solution.radiosity.size());
+  for (const Rgb& b : solution.radiosity) mesh.colors.push_back(b / 3.14159265358979323846);
+  const auto context = GlContext::createHeadless();
+  MeshRenderer renderer;
+  return renderer.render(mesh, camera, camera.width, camera.height);
+}
+
 }  // namespace
 
 int runRender(const RenderOptions& options, const CommonOptions& common) {
-  if (options.method != "raytrace")
+  if (options.method != "raytrace" && options.method != "radiosity")
     throw UsageError("--method " + options.method +
-                     " is not available in this build (available: raytrace)");
+                     " is not available in this build (available: raytrace, radiosity)");
   const Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
     throw UsageError("--frame " + std::to_string(options.frame) +
@@ -55,6 +75,18 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   const PosedScene posed = poseAt(scene, options.frame);
   Camera camera = cameraFor(scene, posed);
   if (!options.size.empty()) parseSize(options.size, camera);
+
+  if (options.method == "radiosity") {
+    const std::filesystem::path parent = std::filesystem::path(options.output).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    const Image radiance = renderRadiosity(posed, camera, options.tolerance);
+    const ToneMapping toneMapping{options.exposure > 0 ? options.exposure : autoExposure(radiance)};
+    writePng(radiance, toneMapping, options.output);
+    if (!common.quiet)
+      std::fprintf(stderr, "wrote %s (%dx%d, exposure %g)\n", options.output.c_str(), camera.width,
+                   camera.height, toneMapping.exposure);
+    return kOk;
+  }
 
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);

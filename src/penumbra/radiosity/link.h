@@ -1,0 +1,33 @@
+#pragma once
+// Links of the hierarchy (Hanrahan, Salzman & Aupperle 1991; clusters: Sillion 1995, Smits et al.
+// 1994). A link transports energy from its source node to its receiver node:
+//   E_receiver += transfer * B_source  (E: irradiance averaged over the receiver's surfaces,
+//                                       B: area-mean radiosity of the source),
+// transfer = unoccludedTransfer * visibility, the receiver-to-source form factor estimate times the
+// fraction of unoccluded rays. A refined link stays as a *passive* link with its estimates and its
+// children (the line-space hierarchy of Drettakis & Sillion 1997 re-activates or re-refines such
+// history when objects move); only active links transfer energy.
+
+#include <cstdint>
+#include <vector>
+
+#include "penumbra/radiosity/cluster.h"
+
+namespace penumbra {
+
+struct Link {
+  NodeRef receiver;
+  NodeRef source;
+  float unoccludedTransfer = 0;  // form factor (receiver to source), visibility ignored
+  float visibility = 1;          // fraction of unoccluded rays in [0, 1]
+  // How much the point-to-source form factor varies over the receiver (max − min at the
+  // quadrature points); for links with a cluster end, the transfer itself (unknown variation).
+  float transferSpread = 0;
+  int shaft = -1;  // index of its shaft in the solver's shafts, -1 when not stored
+  bool active = true;
+  std::vector<int> children;  // links replacing this one after refinement (passive links)
+
+  double transfer() const { return double(unoccludedTransfer) * visibility; }
+};
+
+}  // namespace penumbra

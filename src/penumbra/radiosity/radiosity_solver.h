@@ -1,0 +1,174 @@
+#pragma once
+// Hierarchical radiosity with clustering: the static solver of the global-illumination engine.
+//
+// Input polygons become element quadtrees under a volume cluster hierarchy with a single root;
+// links between clusters and elements carry a form factor estimate, a visibility estimate (Embree
+// rays between jittered points) and a shaft. Refinement follows a BF oracle; solving gathers over
+// active links and push-pulls until the radiosities stop changing. Direct irradiance (transported
+// from emission) and indirect irradiance (from reflected radiosity) are kept apart.
+//
+// Units: B, M in W/m²; irradiance in W/m²; B = M + ρ (E_direct + E_indirect) (DESIGN.md §5).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "penumbra/radiosity/cluster.h"
+#include "penumbra/radiosity/element.h"
+#include "penumbra/radiosity/link.h"
+#include "penumbra/radiosity/shaft.h"
+#include "penumbra/scene/posed_scene.h"
+
+namespace penumbra {
+
+class RayCaster;
+class UniformGrid;
+
+struct RadiosityOptions {
+  // BF oracle: a link is refined while its irradiance error bound, max B_source x (variation of
+  // the form factor over the receiver + the transfer when the source is partly hidden), exceeds
+  // tolerance x the largest emitted exitance of the scene.
+  double tolerance = 1e-3;
+  // Elements are not split below this area (0: minAreaFactor x tolerance x total surface area,
+  // so the finest element scales with the power criterion).
+  double minElementArea = 0;
+  double minAreaFactor = 0.05;
+  int visibilityRays = 16;    // rays per link (jittered, stratified on element ends)
+  int clusterSamples = 16;    // point pairs for form factors involving a cluster
+  double convergence = 1e-5;  // stop when the largest change of B < convergence x max B
+  int maxIterations = 1000;
+  int refinementPasses = 4;  // refine, solve, refine with the new radiosities, ...
+  bool storeShafts = true;   // one shaft per link (the "all" shaft policy)
+  std::uint64_t seed = 1;
+};
+
+// Memory is what the structures hold (capacity x record size plus owned vectors), in bytes.
+struct RadiosityStats {
+  long long clusters = 0;
+  long long elements = 0;
+  long long leaves = 0;
+  long long links = 0;  // every link ever created and kept: active + passive
+  long long activeLinks = 0;
+  long long passiveLinks = 0;
+  long long shafts = 0;
+  long long visibilityRays = 0;
+  int iterations = 0;   // gathering iterations of the last solve
+  double residual = 0;  // last largest relative change of B
+  std::size_t clusterBytes = 0;
+  std::size_t elementBytes = 0;
+  std::size_t activeLinkBytes = 0;
+  std::size_t passiveLinkBytes = 0;
+  std::size_t shaftBytes = 0;
+  std::size_t meshBytes = 0;  // per-vertex output mesh
+  std::size_t totalBytes() const {
+    return clusterBytes + elementBytes + activeLinkBytes + passiveLinkBytes + shaftBytes +
+           meshBytes;
+  }
+  double refineSeconds = 0;
+  double solveSeconds = 0;
+  double totalSeconds = 0;
+};
+
+// Per-vertex solution over the leaf elements (shared vertices within a polygon carry the
+// area-weighted mean of the leaves around them), ready to be drawn with Gouraud shading.
+struct RadiosityMesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;
+  std::vector<PolygonId> polygons;
+  std::vector<Rgb> radiosity;
+  std::vector<Rgb> directIrradiance;
+  std::vector<Rgb> indirectIrradiance;
+  std::vector<std::uint32_t> indices;  // three per triangle
+};
+
+struct RadiositySample {
+  Rgb direct;
+  Rgb indirect;
+  Rgb radiosity;
+  Rgb total() const { return direct + indirect; }
+};
+
+class RadiositySolver {
+ public:
+  explicit RadiositySolver(const RadiosityOptions& options = {});
+  ~RadiositySolver();
+  RadiositySolver(const RadiositySolver&) = delete;
+  RadiositySolver& operator=(const RadiositySolver&) = delete;
+
+  // Builds the hierarchy for `scene` at `frame` and solves. Replaces any previous solution.
+  void build(const Scene& scene, double frame);
+  void build(const PosedScene& scene);
+  // The solution for another frame. For now a full recomputation (the line-space hierarchy will
+  // make this incremental).
+  void update(const Scene& scene, double newFrame);
+
+  // Total irradiance (direct + indirect) at a point on the front side of a receiver; black when
+  // the point lies on no polygon facing `normal`.
+  Rgb irradiance(const Vec3& point, const Vec3& normal) const;
+  // Direct and indirect irradiance and radiosity interpolated from the leaf's vertices, or
+  // nothing when the point lies on no polygon facing `normal`.
+  std::optional<RadiositySample> sample(const Vec3& point, const Vec3& normal) const;
+
+  const RadiosityStats& stats() const { return stats_; }
+  const RadiosityMesh& mesh() const { return mesh_; }
+  const PosedScene& scene() const { return scene_; }
+  const std::vector<Element>& elements() const { return elements_; }
+  const std::vector<Cluster>& clusters() const { return clusters_; }
+  const std::vector<Link>& links() const { return links_; }
+  const std::vector<Shaft>& shafts() const { return shafts_; }
+  const Cluster& root() const { return clusters_[0]; }
+  const RadiosityOptions& options() const { return options_; }
+
+  // Power (W per channel) emitted by all polygons and absorbed by all leaves, (1 − ρ) A E summed.
+  Rgb emittedPower() const;
+  Rgb absorbedPower() const;
+
+ private:
+  void clear();
+  void buildElements();
+  int buildCluster(int begin, int end, int depth);
+  int addLink(NodeRef receiver, NodeRef source, bool estimate);
+  void estimate(Link& link);
+  void refineLink(int link);
+  bool refineActiveLinks();
+  void solve();
+  void pushPull(NodeRef node, const Rgb& direct, const Rgb& indirect, double& largestChange);
+  void pullEmission(NodeRef node);
+  void buildMesh();
+  void computeStats();
+
+  NodeRadiometry& radiometry(NodeRef n);
+  const NodeRadiometry& radiometry(NodeRef n) const;
+  Box3 bounds(NodeRef n) const;
+  double area(NodeRef n) const;
+  double size(NodeRef n) const;
+  bool canSplit(NodeRef n) const;
+  std::vector<NodeRef> split(NodeRef n);
+  bool isBehind(NodeRef n, const Plane& plane) const;
+
+  struct SurfacePoint {
+    Vec3 position;
+    Vec3 normal;
+  };
+  SurfacePoint samplePoint(NodeRef n, double u, double v, double w) const;
+
+  RadiosityOptions options_;
+  PosedScene scene_;
+  std::unique_ptr<UniformGrid> grid_;
+  std::unique_ptr<RayCaster> rays_;
+  std::vector<Element> elements_;
+  std::vector<std::vector<int>> polygonRoots_;  // root elements of each polygon
+  std::vector<int> rootOrder_;                  // root elements in cluster order
+  std::vector<double> rootCumulativeArea_;      // prefix sums of areas over rootOrder_
+  std::vector<Cluster> clusters_;               // [0] is the root
+  std::vector<Link> links_;                     // [0] is the root self-link
+  std::vector<Shaft> shafts_;
+  std::vector<std::array<std::uint32_t, 4>> leafVertices_;  // mesh vertices of each leaf
+  RadiosityMesh mesh_;
+  double minArea_ = 0;
+  double totalPower_ = 0;  // emitted power (largest channel per polygon), the oracle's scale
+  RadiosityStats stats_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,41 @@
+#pragma once
+// Shafts: the convex volume swept between two boxes, as their common bounding box cut by planes
+// (Haines & Wallace 1991, "Shaft culling for efficient ray-traced radiosity"). A link keeps the
+// shaft between its two ends so that a later move can ask cheaply whether a moving box may change
+// the link's visibility (Drettakis & Sillion 1997; Schöffel & Pomi 1999 manage which to keep).
+
+#include <array>
+#include <cstdint>
+
+#include "penumbra/geometry/box.h"
+#include "penumbra/geometry/plane.h"
+
+namespace penumbra {
+
+class Shaft {
+ public:
+  // At most two planes per pair of hull faces on different axes; in practice at most 8 are used.
+  static constexpr int kMaxPlanes = 12;
+
+  Shaft() = default;
+  // Precondition: both boxes are non-empty. Postcondition: the shaft contains the convex hull of
+  // the two boxes (every segment from a point of `a` to a point of `b` lies inside it).
+  Shaft(const Box3& a, const Box3& b);
+
+  // Conservative: false only when `box` certainly misses the shaft (it lies outside the hull box
+  // or entirely on the outer side of one plane).
+  bool mayIntersect(const Box3& box) const;
+  // Is p inside the shaft (within `tolerance` of it)?
+  bool contains(const Vec3& p, double tolerance = 0) const;
+
+  const Box3& hull() const { return hull_; }
+  int planeCount() const { return planeCount_; }
+  const Plane& plane(int i) const { return planes_[i]; }  // outward normals
+
+ private:
+  Box3 hull_;
+  std::array<Plane, kMaxPlanes> planes_{};
+  std::uint8_t planeCount_ = 0;
+};
+
+}  // namespace penumbra
