@@ -1,0 +1,150 @@
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "penumbra/dm/fan_visibility.h"
+#include "penumbra/dm/surface_casting.h"
+#include "penumbra/dm/surface_enumeration.h"
+#include "penumbra/spatial/receiver_locator.h"
+
+namespace penumbra {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Edges of other polygons lying in the receiver's plane and touching it: contact lines (D0
+// discontinuities), e.g. the footprint of a box resting on the floor.
+std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const UniformGrid& grid,
+                                                  const WorldPolygon& receiver) {
+  std::vector<DiscontinuitySegment> out;
+  const double tolerance = 1e-9 * scene.bounds.diagonalLength();
+  for (PolygonId id : grid.polygonsInBox(receiver.bounds.expanded(tolerance))) {
+    if (id == receiver.id) continue;
+    const WorldPolygon& other = scene.polygons[id];
+    bool coplanar = true;
+    for (const Vec3& v : other.vertices)
+      coplanar = coplanar && std::abs(receiver.plane.signedDistance(v)) <= tolerance;
+    if (!coplanar) continue;
+    for (size_t i = 0; i < other.vertices.size(); ++i)
+      out.push_back({ReceiverMesh::kBoundary - 1 - id, receiver.id, other.vertices[i],
+                     other.vertices[(i + 1) % other.vertices.size()], 0, 0});
+  }
+  return out;
+}
+
+}  // namespace
+
+DiscontinuityMeshEngine::DiscontinuityMeshEngine() = default;
+DiscontinuityMeshEngine::~DiscontinuityMeshEngine() = default;
+
+void DiscontinuityMeshEngine::build(const Scene& scene, int frame) { build(poseAt(scene, frame)); }
+
+void DiscontinuityMeshEngine::build(PosedScene posed) {
+  stats_ = {};
+  receivers_.clear();
+  surfaces_.clear();
+  posed_ = std::make_unique<PosedScene>(std::move(posed));
+  const PosedScene& scene = *posed_;
+  grid_ = std::make_unique<UniformGrid>(scene);
+  reference_ = std::make_unique<ExactReference>(scene, grid_.get());
+  adjacency_ = std::make_unique<EdgeAdjacency>(scene);
+  backprojections_ = std::make_unique<BackprojectionBuilder>(scene, *grid_, *reference_);
+  stats_.lights = int(scene.lights.size());
+  stats_.gridBytes = grid_->memoryBytes();
+
+  auto start = Clock::now();
+  for (PolygonId light : scene.lights) {
+    std::vector<DiscontinuitySurface> surfaces =
+        enumerateEmitterEvSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
+    for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
+  }
+  for (const DiscontinuitySurface& s : surfaces_)
+    (s.kind == SurfaceKind::kEmitterVertexOccluderEdge ? stats_.surfacesEmitterVertex
+                                                       : stats_.surfacesEmitterEdge)++;
+  stats_.secondsSurfaces = secondsSince(start);
+
+  start = Clock::now();
+  for (DiscontinuitySurface& s : surfaces_) {
+    castSurface(s, scene, *grid_);
+    stats_.storedIntersections += (long long)s.intersections.size();
+    stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
+    stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
+  }
+  stats_.secondsCasting = secondsSince(start);
+
+  start = Clock::now();
+  std::map<PolygonId, std::vector<DiscontinuitySegment>> perReceiver;
+  for (const DiscontinuitySurface& s : surfaces_)
+    for (DiscontinuitySegment& segment : visibleSegments(s)) {
+      ++stats_.visibleSegments;
+      perReceiver[segment.receiver].push_back(std::move(segment));
+    }
+  stats_.secondsVisibility = secondsSince(start);
+
+  start = Clock::now();
+  for (const WorldPolygon& receiver : scene.polygons) {
+    if (receiver.isLight) continue;
+    ReceiverData data{ReceiverMesh(receiver), {}};
+    std::vector<DiscontinuitySegment> segments = std::move(perReceiver[receiver.id]);
+    const std::vector<DiscontinuitySegment> contact = contactSegments(scene, *grid_, receiver);
+    stats_.contactSegments += (long long)contact.size();
+    segments.insert(segments.end(), contact.begin(), contact.end());
+    data.mesh.insert(segments);
+    stats_.meshVertices += data.mesh.vertexCount();
+    stats_.meshEdges += data.mesh.edgeCount();
+    stats_.meshFaces += (long long)data.mesh.faces().size();
+    stats_.meshBytes += data.mesh.memoryBytes();
+    receivers_.emplace(receiver.id, std::move(data));
+  }
+  stats_.secondsMeshing = secondsSince(start);
+
+  start = Clock::now();
+  for (auto& [id, data] : receivers_) {
+    const WorldPolygon& receiver = scene.polygons[id];
+    for (const MeshFace& face : data.mesh.faces()) {
+      FaceData faceData;
+      for (PolygonId light : scene.lights) {
+        Backprojection bp =
+            backprojections_->compute(light, face.samplePoint, receiver.plane.normal, id);
+        stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
+        for (const auto& cycle : bp.cycles) {
+          stats_.backprojectionVertices += (long long)cycle.size();
+          stats_.backprojectionBytes += cycle.capacity() * sizeof(BackprojectionVertex);
+        }
+        faceData.perLight.push_back(std::move(bp));
+      }
+      data.faces.push_back(std::move(faceData));
+    }
+  }
+  stats_.secondsBackprojections = secondsSince(start);
+}
+
+const ReceiverMesh* DiscontinuityMeshEngine::meshOf(PolygonId receiver) const {
+  const auto it = receivers_.find(receiver);
+  return it == receivers_.end() ? nullptr : &it->second.mesh;
+}
+
+Rgb DiscontinuityMeshEngine::faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const {
+  const ReceiverData& data = receivers_.at(receiver);
+  return backprojections_->irradiance(data.faces[face].perLight, p,
+                                      posed_->polygons[receiver].plane.normal, receiver);
+}
+
+std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3& n) const {
+  const auto match = locateReceiver(*posed_, *grid_, p, n);
+  if (!match) return std::nullopt;
+  const auto it = receivers_.find(match->polygon);
+  if (it == receivers_.end()) return std::nullopt;
+  const WorldPolygon& receiver = posed_->polygons[match->polygon];
+  const Vec3 onPlane = receiver.plane.project(p);
+  const auto face = it->second.mesh.locate(onPlane);
+  if (!face) return std::nullopt;
+  return backprojections_->irradiance(it->second.faces[*face].perLight, p, n, match->polygon);
+}
+
+}  // namespace penumbra
