@@ -7,8 +7,10 @@
 #include "commands.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/render/exr_io.h"
+#include "penumbra/render/gl_context.h"
 #include "penumbra/render/png_writer.h"
 #include "penumbra/render/ray_traced_image.h"
+#include "penumbra/render/shadow_volume_renderer.h"
 #include "penumbra/render/tone_mapping.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
@@ -41,12 +43,49 @@ void parseSize(const std::string& size, Camera& camera) {
     throw UsageError("--size must lie in 1x1 .. 16384x16384");
 }
 
+void createParentFolders(const RenderOptions& options) {
+  for (const std::string& path : {options.output, options.exr}) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
+  }
+}
+
+// Shadow volumes: built at frame 0 and updated incrementally to the requested frame.
+int renderVolumes(const RenderOptions& options, const CommonOptions& common, const Scene& scene,
+                  const PosedScene& posed, const Camera& camera) {
+  const auto context = GlContext::createHeadless();
+  ShadowVolumeEngine engine;
+  engine.build(scene, 0);
+  for (int f = 1; f <= options.frame; ++f) engine.update(scene, f);
+  ShadowVolumeRenderer renderer;
+  ShadowVolumeRenderOptions so;
+  so.lightSamples = options.lightSamples;
+  const Image radiance = renderer.render(posed, engine, camera, camera.width, camera.height, so);
+  createParentFolders(options);
+  const ToneMapping toneMapping{options.exposure > 0 ? options.exposure : autoExposure(radiance)};
+  writePng(radiance, toneMapping, options.output);
+  if (!options.exr.empty()) {
+    so.output = ShadowVolumeRenderOptions::Output::kIrradiance;
+    writeExr(renderer.render(posed, engine, camera, camera.width, camera.height, so), options.exr);
+  }
+  if (!common.quiet) {
+    const VolumeUpdateStats& s = engine.stats().frames.back();
+    std::fprintf(stderr,
+                 "wrote %s (%dx%d, exposure %g; volumes: %d light x object, %lld silhouette "
+                 "edges, %lld jitter moves incremental, %lld rebuilt)\n",
+                 options.output.c_str(), camera.width, camera.height, toneMapping.exposure,
+                 s.volumes, s.silhouetteEdges, engine.stats().jitterIncremental,
+                 engine.stats().jitterRebuilds);
+  }
+  return kOk;
+}
+
 }  // namespace
 
 int runRender(const RenderOptions& options, const CommonOptions& common) {
-  if (options.method != "raytrace")
+  if (options.method != "raytrace" && options.method != "volumes")
     throw UsageError("--method " + options.method +
-                     " is not available in this build (available: raytrace)");
+                     " is not available in this build (available: raytrace, volumes)");
   const Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
     throw UsageError("--frame " + std::to_string(options.frame) +
@@ -54,6 +93,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   const PosedScene posed = poseAt(scene, options.frame);
   Camera camera = cameraFor(scene, posed);
   if (!options.size.empty()) parseSize(options.size, camera);
+  if (options.method == "volumes") return renderVolumes(options, common, scene, posed, camera);
 
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);
@@ -67,10 +107,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   rt.onRowDone = [&](long long rows) { progress.advance(rows); };
   const RayTracedImage image = renderRayTraced(posed, camera, rays, reference, rt);
 
-  for (const std::string& path : {options.output, options.exr}) {
-    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
-  }
+  createParentFolders(options);
   const ToneMapping toneMapping{options.exposure > 0 ? options.exposure
                                                      : autoExposure(image.radiance)};
   writePng(image.radiance, toneMapping, options.output);
