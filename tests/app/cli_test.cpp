@@ -130,3 +130,29 @@ TEST(Cli, InfoReportsCounts) {
 
 }  // namespace
 }  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+TEST(Cli, RenderVolumesWritesAPng) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const std::string out = dir.path("out/volumes.png");
+  const RunResult r = runPenumbra(
+      "render " + scene + " --method volumes --light-samples 4 --frame 2 --size 64x48 -o " + out);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  FILE* file = std::fopen(out.c_str(), "rb");
+  ASSERT_NE(file, nullptr);
+  unsigned char signature[8] = {};
+  EXPECT_EQ(std::fread(signature, 1, 8, file), 8u);
+  std::fclose(file);
+  EXPECT_EQ(signature[1], 'P');
+  EXPECT_EQ(signature[2], 'N');
+  EXPECT_EQ(signature[3], 'G');
+  EXPECT_EQ(
+      runPenumbra("render " + scene + " --method volumes --light-samples 0 -o " + out).exitCode, 1);
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,7 +1,9 @@
-// `penumbra render SCENE --method raytrace -o OUT.png`: images of a frame.
+// `penumbra render SCENE --method raytrace|radiosity|volumes -o OUT.png`: images of a frame.
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 
 #include "commands.h"
 #include "penumbra/lighting/exact_reference.h"
@@ -11,10 +13,12 @@
 #include "penumbra/render/mesh_renderer.h"
 #include "penumbra/render/png_writer.h"
 #include "penumbra/render/ray_traced_image.h"
+#include "penumbra/render/shadow_volume_renderer.h"
 #include "penumbra/render/tone_mapping.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "penumbra/volumes/shadow_volume_engine.h"
 #include "progress.h"
 
 namespace penumbra::cli {
@@ -28,7 +32,7 @@ Camera cameraFor(const Scene& scene, const PosedScene& posed) {
   const Vec3 center = posed.bounds.center();
   const double radius = posed.bounds.diagonalLength() / 2;
   c.target = center;
-  c.eye = center + Vec3{0, 0, radius / std::tan(c.fovYDegrees * 3.14159265358979 / 360) * 1.1};
+  c.eye = center + Vec3{0, 0, radius / std::tan(c.fovYDegrees * std::numbers::pi / 360) * 1.1};
   return c;
 }
 
@@ -45,49 +49,29 @@ void parseSize(const std::string& size, Camera& camera) {
     throw UsageError("--size must lie in 1x1 .. 16384x16384");
 }
 
-// The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
-Image renderRadiosity(const PosedScene& posed, const Camera& camera, double tolerance) {
-  RadiosityOptions radiosityOptions;
-  radiosityOptions.tolerance = tolerance;
-  RadiositySolver solver(radiosityOptions);
-  solver.build(posed);
-  const RadiosityMesh& solution = solver.mesh();
-  ColoredMesh mesh;
-  mesh.positions = solution.positions;
-  mesh.indices = solution.indices;
-  mesh.colors.reserve(solution.radiosity.size());
-  for (const Rgb& b : solution.radiosity) mesh.colors.push_back(b / 3.14159265358979323846);
-  const auto context = GlContext::createHeadless();
-  MeshRenderer renderer;
-  return renderer.render(mesh, camera, camera.width, camera.height);
+// Writes the tone-mapped PNG (and the raw irradiance EXR when asked), creating folders.
+void writeImages(const RenderOptions& options, const CommonOptions& common, const Image& radiance,
+                 const Image* irradiance, const std::string& details) {
+  for (const std::string& path : {options.output, options.exr}) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
+  }
+  const ToneMapping toneMapping{options.exposure > 0 ? options.exposure : autoExposure(radiance)};
+  writePng(radiance, toneMapping, options.output);
+  if (!options.exr.empty()) {
+    if (!irradiance) throw UsageError("--exr is not available with --method " + options.method);
+    writeExr(*irradiance, options.exr);
+  }
+  if (!common.quiet)
+    std::fprintf(stderr, "wrote %s (%dx%d, exposure %g)%s%s%s\n", options.output.c_str(),
+                 radiance.width, radiance.height, toneMapping.exposure,
+                 options.exr.empty() ? "" : ", irradiance in ", options.exr.c_str(),
+                 details.c_str());
 }
 
-}  // namespace
-
-int runRender(const RenderOptions& options, const CommonOptions& common) {
-  if (options.method != "raytrace" && options.method != "radiosity")
-    throw UsageError("--method " + options.method +
-                     " is not available in this build (available: raytrace, radiosity)");
-  const Scene scene = loadScene(options.scene);
-  if (options.frame < 0 || options.frame >= scene.frames)
-    throw UsageError("--frame " + std::to_string(options.frame) +
-                     " is outside the scene's frames 0.." + std::to_string(scene.frames - 1));
-  const PosedScene posed = poseAt(scene, options.frame);
-  Camera camera = cameraFor(scene, posed);
-  if (!options.size.empty()) parseSize(options.size, camera);
-
-  if (options.method == "radiosity") {
-    const std::filesystem::path parent = std::filesystem::path(options.output).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
-    const Image radiance = renderRadiosity(posed, camera, options.tolerance);
-    const ToneMapping toneMapping{options.exposure > 0 ? options.exposure : autoExposure(radiance)};
-    writePng(radiance, toneMapping, options.output);
-    if (!common.quiet)
-      std::fprintf(stderr, "wrote %s (%dx%d, exposure %g)\n", options.output.c_str(), camera.width,
-                   camera.height, toneMapping.exposure);
-    return kOk;
-  }
-
+// Every pixel's direct irradiance by the exact reference.
+void renderRaytrace(const RenderOptions& options, const CommonOptions& common,
+                    const PosedScene& posed, const Camera& camera) {
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);
   const RayCaster rays(posed);
@@ -99,19 +83,72 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   rt.threads = common.threads;
   rt.onRowDone = [&](long long rows) { progress.advance(rows); };
   const RayTracedImage image = renderRayTraced(posed, camera, rays, reference, rt);
+  writeImages(options, common, image.radiance, &image.irradiance, "");
+}
 
-  for (const std::string& path : {options.output, options.exr}) {
-    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
+// The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
+void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
+                     const PosedScene& posed, const Camera& camera) {
+  RadiosityOptions radiosityOptions;
+  radiosityOptions.tolerance = options.tolerance;
+  RadiositySolver solver(radiosityOptions);
+  solver.build(posed);
+  const RadiosityMesh& solution = solver.mesh();
+  ColoredMesh mesh;
+  mesh.positions = solution.positions;
+  mesh.indices = solution.indices;
+  mesh.colors.reserve(solution.radiosity.size());
+  for (const Rgb& b : solution.radiosity) mesh.colors.push_back(b / std::numbers::pi);
+  const auto context = GlContext::createHeadless();
+  MeshRenderer renderer;
+  writeImages(options, common, renderer.render(mesh, camera, camera.width, camera.height), nullptr,
+              "");
+}
+
+// Shadow volumes: built at frame 0 and updated incrementally to the requested frame.
+void renderVolumes(const RenderOptions& options, const CommonOptions& common, const Scene& scene,
+                   const PosedScene& posed, const Camera& camera) {
+  const auto context = GlContext::createHeadless();
+  ShadowVolumeEngine engine;
+  engine.build(scene, 0);
+  for (int f = 1; f <= options.frame; ++f) engine.update(scene, f);
+  ShadowVolumeRenderer renderer;
+  ShadowVolumeRenderOptions so;
+  so.lightSamples = options.lightSamples;
+  const Image radiance = renderer.render(posed, engine, camera, camera.width, camera.height, so);
+  Image irradiance;
+  if (!options.exr.empty()) {
+    so.output = ShadowVolumeRenderOptions::Output::kIrradiance;
+    irradiance = renderer.render(posed, engine, camera, camera.width, camera.height, so);
   }
-  const ToneMapping toneMapping{options.exposure > 0 ? options.exposure
-                                                     : autoExposure(image.radiance)};
-  writePng(image.radiance, toneMapping, options.output);
-  if (!options.exr.empty()) writeExr(image.irradiance, options.exr);
-  if (!common.quiet)
-    std::fprintf(stderr, "wrote %s (%dx%d, exposure %g)%s%s\n", options.output.c_str(),
-                 camera.width, camera.height, toneMapping.exposure,
-                 options.exr.empty() ? "" : ", irradiance in ", options.exr.c_str());
+  const VolumeUpdateStats& s = engine.stats().frames.back();
+  const std::string details = "; volumes: " + std::to_string(s.volumes) + " light x object, " +
+                              std::to_string(s.silhouetteEdges) + " silhouette edges, " +
+                              std::to_string(engine.stats().jitterIncremental) +
+                              " jitter moves incremental, " +
+                              std::to_string(engine.stats().jitterRebuilds) + " rebuilt";
+  writeImages(options, common, radiance, options.exr.empty() ? nullptr : &irradiance, details);
+}
+
+}  // namespace
+
+int runRender(const RenderOptions& options, const CommonOptions& common) {
+  if (options.method != "raytrace" && options.method != "radiosity" && options.method != "volumes")
+    throw UsageError("--method " + options.method +
+                     " is not available in this build (available: raytrace, radiosity, volumes)");
+  const Scene scene = loadScene(options.scene);
+  if (options.frame < 0 || options.frame >= scene.frames)
+    throw UsageError("--frame " + std::to_string(options.frame) +
+                     " is outside the scene's frames 0.." + std::to_string(scene.frames - 1));
+  const PosedScene posed = poseAt(scene, options.frame);
+  Camera camera = cameraFor(scene, posed);
+  if (!options.size.empty()) parseSize(options.size, camera);
+  if (options.method == "volumes")
+    renderVolumes(options, common, scene, posed, camera);
+  else if (options.method == "radiosity")
+    renderRadiosity(options, common, posed, camera);
+  else
+    renderRaytrace(options, common, posed, camera);
   return kOk;
 }
 
