@@ -37,6 +37,20 @@ std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const
   return out;
 }
 
+// Segments computed by different surfaces that should meet at one point (where two events cross
+// on the receiver) come out of floating-point constructions a few ulps apart, and a gap would merge
+// two faces. Extending every segment a little at both ends turns near-misses into crossings: the
+// mesh may gain tiny faces (over-refinement, harmless: each gets its own backprojection) but never
+// loses one (Drettakis & Fiume's robustness rule).
+DiscontinuitySegment extended(DiscontinuitySegment s, double by) {
+  const Vec3 d = s.p1 - s.p0;
+  const double len = length(d);
+  if (len == 0) return s;
+  s.p0 = s.p0 - d * (by / len);
+  s.p1 = s.p1 + d * (by / len);
+  return s;
+}
+
 }  // namespace
 
 DiscontinuityMeshEngine::DiscontinuityMeshEngine() = default;
@@ -90,7 +104,9 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   for (const WorldPolygon& receiver : scene.polygons) {
     if (receiver.isLight) continue;
     ReceiverData data{ReceiverMesh(receiver), {}};
-    std::vector<DiscontinuitySegment> segments = std::move(perReceiver[receiver.id]);
+    std::vector<DiscontinuitySegment> segments;
+    for (const DiscontinuitySegment& segment : perReceiver[receiver.id])
+      segments.push_back(extended(segment, kSegmentExtension * scene.bounds.diagonalLength()));
     const std::vector<DiscontinuitySegment> contact = contactSegments(scene, *grid_, receiver);
     stats_.contactSegments += (long long)contact.size();
     segments.insert(segments.end(), contact.begin(), contact.end());

@@ -42,6 +42,9 @@ struct DmStats {
 
 class DiscontinuityMeshEngine {
  public:
+  // Discontinuity segments are lengthened by this fraction of the scene's size at both ends.
+  static constexpr double kSegmentExtension = 1e-9;
+
   DiscontinuityMeshEngine();
   ~DiscontinuityMeshEngine();
 

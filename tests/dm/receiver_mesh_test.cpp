@@ -1,0 +1,76 @@
+#include "penumbra/dm/receiver_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "support/scene_builder.h"
+
+namespace penumbra {
+namespace {
+
+WorldPolygon unitSquareReceiver() {
+  test::SceneBuilder b;
+  b.addMaterial("white", {0.5, 0.5, 0.5});
+  b.addPolygon("white", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
+  return b.pose().polygons[0];
+}
+
+double totalArea(const ReceiverMesh& mesh) {
+  double sum = 0;
+  for (const MeshFace& f : mesh.faces()) sum += f.area;
+  return sum;
+}
+
+TEST(ReceiverMesh, StartsAsTheReceiverPolygon) {
+  const ReceiverMesh mesh(unitSquareReceiver());
+  EXPECT_EQ(mesh.vertexCount(), 4);
+  EXPECT_EQ(mesh.edgeCount(), 4);
+  ASSERT_EQ(mesh.faces().size(), 1u);
+  EXPECT_NEAR(mesh.faces()[0].area, 1.0, 1e-15);
+  EXPECT_EQ(mesh.locate({0.3, 0.6, 0}), 0);
+  EXPECT_FALSE(mesh.locate({1.3, 0.6, 0}));
+}
+
+TEST(ReceiverMesh, InsertSplitsAndRemoveRestoresLocally) {
+  ReceiverMesh mesh(unitSquareReceiver());
+  // A diagonal from surface 7 and, overlapping half of it, a piece from surface 8.
+  mesh.insert({{7, 0, {0, 0, 0}, {1, 1, 0}, 0, 1}, {8, 0, {0.5, 0.5, 0}, {1, 1, 0}, 0, 1},
+               {9, 0, {0.2, 0.8, 0}, {0.4, 0.6, 0}, 0, 1}});  // an antenna-free dangling piece
+  ASSERT_EQ(mesh.faces().size(), 2u);
+  EXPECT_NEAR(totalArea(mesh), 1.0, 1e-15);
+  const auto below = mesh.locate({0.7, 0.2, 0}), above = mesh.locate({0.2, 0.7, 0});
+  ASSERT_TRUE(below && above);
+  EXPECT_NE(*below, *above);
+  int sharedEdges = 0;
+  for (const auto& [segment, surfaces] : mesh.edges()) sharedEdges += surfaces.size() == 2 ? 1 : 0;
+  EXPECT_EQ(sharedEdges, 1);  // the half where surfaces 7 and 8 overlap
+  mesh.removeSurface(7);      // the overlapping half stays (surface 8), the split remains
+  EXPECT_EQ(mesh.faces().size(), 1u);
+  mesh.removeSurface(8);
+  mesh.removeSurface(9);
+  EXPECT_EQ(mesh.edgeCount(), 4);
+  EXPECT_EQ(mesh.faces().size(), 1u);
+}
+
+TEST(ReceiverMesh, RandomSegmentsKeepAreaAndLocateEverySample) {
+  ReceiverMesh mesh(unitSquareReceiver());
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  std::vector<DiscontinuitySegment> segments;
+  for (int i = 0; i < 60; ++i)
+    segments.push_back({i, 0, {u(rng), u(rng), 0}, {u(rng), u(rng), 0}, 0, 1});
+  mesh.insert(segments);
+  EXPECT_GT(mesh.faces().size(), 60u);
+  EXPECT_NEAR(totalArea(mesh), 1.0, 1e-12);
+  for (const MeshFace& f : mesh.faces()) {
+    EXPECT_GT(f.area, 0);
+    EXPECT_EQ(mesh.locate(f.samplePoint), f.index);
+  }
+  for (int i = 0; i < 60; i += 2) mesh.removeSurface(i);
+  EXPECT_NEAR(totalArea(mesh), 1.0, 1e-12);
+  for (const MeshFace& f : mesh.faces()) EXPECT_EQ(mesh.locate(f.samplePoint), f.index);
+}
+
+}  // namespace
+}  // namespace penumbra
