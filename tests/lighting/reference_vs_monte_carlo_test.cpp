@@ -13,23 +13,10 @@
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/spatial/ray_caster.h"
-#include "support/scene_builder.h"
+#include "support/boxes.h"
 
 namespace penumbra {
 namespace {
-
-// Closed box faces, outward-facing, as one object.
-void addBox(test::SceneBuilder& b, const std::string& name, const Vec3& lo, const Vec3& hi) {
-  const double x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-  for (const Polygon3& f : std::vector<Polygon3>{
-           {{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
-           {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
-           {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
-           {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},
-           {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
-           {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}}})
-    b.addPolygon("white", f, name);
-}
 
 struct Probe {
   Vec3 point, normal;
@@ -87,7 +74,7 @@ TEST(ReferenceVsMonteCarlo, AgreeOverManyPointsAndScenes) {
     b.addMaterial("lamp", {0, 0, 0}, {5, 5, 5}).addMaterial("white", {0.5, 0.5, 0.5});
     b.addPolygon("lamp", {{-0.5, -0.5, 3}, {-0.5, 0.5, 3}, {0.5, 0.5, 3}, {0.5, -0.5, 3}});
     b.addPolygon("white", {{-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}});
-    addBox(b, "box", {-0.4, -0.3, 1.0}, {0.3, 0.4, 1.5});
+    test::addBox(b, "white", "box", {-0.4, -0.3, 1.0}, {0.3, 0.4, 1.5});
     const PosedScene scene = b.pose();
     compare(scene, floorProbes(350, 2.0, 1), agreement);
   }
