@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 #include "commands.h"
+#include "frame_range.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "progress.h"
@@ -55,18 +55,8 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
                      " is not available in this build (available: full)");
   if (!(options.tolerance > 0)) throw UsageError("--tolerance must be positive");
   const Scene scene = loadScene(options.scene);
-  int first = 0, last = scene.frames - 1;
-  if (!options.frames.empty()) {
-    static const std::regex pattern(R"((\d{1,9}):(\d{1,9}))");
-    std::smatch m;
-    if (!std::regex_match(options.frames, m, pattern))
-      throw UsageError("--frames must look like A:B, got '" + options.frames + "'");
-    first = std::stoi(m[1]);
-    last = std::stoi(m[2]);
-    if (first > last || last >= scene.frames)
-      throw UsageError("--frames " + options.frames + " is outside the scene's frames 0.." +
-                       std::to_string(scene.frames - 1));
-  }
+  const FrameRange range = parseFrameRange(options.frames, scene.frames);
+  const int first = range.first, last = range.last;
   RadiosityOptions solverOptions;
   solverOptions.tolerance = options.tolerance;
   RadiositySolver solver(solverOptions);
