@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "penumbra/geometry/triangulation.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/scene/scene_generator.h"
+#include "penumbra/scene/receiver_sampling.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
@@ -31,43 +31,6 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-struct ReceiverPoint {
-  Vec3 p, n;
-  PolygonId receiver;
-};
-
-// Uniform random points on the non-emitting polygons' front sides (area-weighted).
-std::vector<ReceiverPoint> samplePoints(const PosedScene& scene, int count, std::uint64_t seed) {
-  struct Tri {
-    Vec3 a, b, c;
-    PolygonId id;
-    double area;
-  };
-  std::vector<Tri> tris;
-  double total = 0;
-  for (const WorldPolygon& p : scene.polygons) {
-    if (p.isLight) continue;
-    for (const auto& t : triangulate(p.vertices)) {
-      Tri tri{p.vertices[t[0]], p.vertices[t[1]], p.vertices[t[2]], p.id, 0};
-      tri.area = 0.5 * length(cross(tri.b - tri.a, tri.c - tri.a));
-      total += tri.area;
-      tris.push_back(tri);
-    }
-  }
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<ReceiverPoint> points;
-  for (int i = 0; i < count; ++i) {
-    double pick = u(rng) * total;
-    size_t k = 0;
-    while (k + 1 < tris.size() && pick > tris[k].area) pick -= tris[k++].area;
-    const double r1 = std::sqrt(u(rng)), r2 = u(rng);
-    const Tri& t = tris[k];
-    const Vec3 p = t.a * (1 - r1) + t.b * (r1 * (1 - r2)) + t.c * (r1 * r2);
-    points.push_back({p, scene.polygons[t.id].plane.normal, t.id});
-  }
-  return points;
-}
 
 }  // namespace
 
@@ -99,7 +62,7 @@ int main(int argc, char** argv) {
   for (const auto& [name, path] : scenes) {
     const Scene scene = loadScene(path);
     const PosedScene posed = poseAt(scene, 0);
-    const auto points = samplePoints(posed, pointCount, 7);
+    const auto points = sampleReceiverPoints(posed, pointCount, 7);
     auto start = Clock::now();
     const UniformGrid grid(posed);
     const double gridBuild = secondsSince(start);
@@ -134,7 +97,7 @@ int main(int argc, char** argv) {
   const MonteCarloEstimator monteCarlo(posed, rays);
   std::vector<ReceiverPoint> penumbra;
   std::vector<double> exact;
-  for (const auto& q : samplePoints(posed, 20000, 11)) {
+  for (const auto& q : sampleReceiverPoints(posed, 20000, 11)) {
     const double e = reference.irradiance(q.p, q.n, q.receiver).r;
     double unoccluded = 0;
     for (PolygonId l : posed.lights)

@@ -9,46 +9,14 @@
 
 #include <random>
 
-#include "penumbra/geometry/triangulation.h"
 #include "penumbra/lighting/form_factor.h"
+#include "penumbra/scene/receiver_sampling.h"
 #include "penumbra/scene/scene_loader.h"
 #include "support/boxes.h"
 
 namespace penumbra {
 namespace {
 
-struct Probe {
-  Vec3 p, n;
-  PolygonId receiver;
-};
-
-std::vector<Probe> randomReceiverPoints(const PosedScene& scene, int count, std::uint64_t seed) {
-  std::vector<std::pair<std::array<Vec3, 3>, PolygonId>> triangles;
-  std::vector<double> cumulative;
-  double total = 0;
-  for (const WorldPolygon& polygon : scene.polygons) {
-    if (polygon.isLight) continue;
-    for (const auto& t : triangulate(polygon.vertices)) {
-      const std::array<Vec3, 3> tri{polygon.vertices[t[0]], polygon.vertices[t[1]],
-                                    polygon.vertices[t[2]]};
-      total += 0.5 * length(cross(tri[1] - tri[0], tri[2] - tri[0]));
-      cumulative.push_back(total);
-      triangles.push_back({tri, polygon.id});
-    }
-  }
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::vector<Probe> probes;
-  for (int i = 0; i < count; ++i) {
-    const size_t k =
-        std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * total) - cumulative.begin();
-    const auto& [tri, id] = triangles[std::min(k, triangles.size() - 1)];
-    const double r1 = std::sqrt(u(rng)), r2 = u(rng);
-    probes.push_back({tri[0] * (1 - r1) + tri[1] * (r1 * (1 - r2)) + tri[2] * (r1 * r2),
-                      scene.polygons[id].plane.normal, id});
-  }
-  return probes;
-}
 
 double formFactorOf(const std::vector<Polygon3>& rings, const Vec3& p, const Vec3& n) {
   double f = 0;
@@ -67,7 +35,7 @@ void checkScene(const PosedScene& scene, int count, Agreement& agreement) {
   const double size = scene.bounds.diagonalLength();
   std::mt19937_64 rng(99);
   std::uniform_real_distribution<double> angle(0, 6.283185307179586);
-  for (const Probe& probe : randomReceiverPoints(scene, count, 17)) {
+  for (const ReceiverPoint& probe : sampleReceiverPoints(scene, count, 17)) {
     for (PolygonId light : scene.lights) {
       const Backprojection bp = builder.compute(light, probe.p, probe.n, probe.receiver);
       ++agreement.points;

@@ -95,28 +95,50 @@ TEST(EmitterSurfaces, VisibleSegmentsSatisfyTheirEventDefinition) {
               checked);
 }
 
-TEST(EmitterSurfaces, CastingListsTheCellsTheFanCrosses) {
+// Independent of the casting code: sample critical lines of every surface, find by plain
+// segment-polygon tests where each pierces the scene's polygons, and require each such point to lie
+// in a listed cell and on a stored intersection of that polygon.
+TEST(EmitterSurfaces, CastingStoresEveryPolygonEveryCriticalLineMeets) {
   const PosedScene scene = roomWithBoxes().pose();
   const EdgeAdjacency adjacency(scene);
   const UniformGrid grid(scene, GridResolution{6, 6, 5});
   std::vector<DiscontinuitySurface> surfaces =
       enumerateEmitterEvSurfaces(scene, adjacency, scene.lights[0], 0);
+  const double size = scene.bounds.diagonalLength();
+  int pierces = 0;
   for (DiscontinuitySurface& surface : surfaces) {
     castSurface(surface, scene, grid);
-    const Polygon3 fan = boundedFan(surface.fan, grid.bounds());
-    for (int cell = 0; cell < grid.resolution().cellCount(); ++cell) {
-      const bool listed = std::binary_search(surface.cells.begin(), surface.cells.end(), cell);
-      EXPECT_EQ(listed, polygonCutsBox(fan, grid.cellBounds(cell))) << cell;
-    }
-    // Every polygon met by the fan in those cells has a stored intersection.
-    for (const SurfaceIntersection& r : surface.intersections) {
-      bool inListedCell = false;
-      for (int cell : surface.cells)
-        for (PolygonId id : grid.polygonsInCell(cell))
-          inListedCell = inListedCell || id == r.polygon;
-      EXPECT_TRUE(inListedCell);
+    for (double u = 0.05; u < 1; u += 0.1) {
+      const Vec3 from = surface.fan.source(u);
+      const Vec3 direction = normalize(surface.fan.hinge(u) - from);
+      const Vec3 to = from + direction * (2 * size);
+      for (const WorldPolygon& q : scene.polygons) {
+        // A line through the hinge only touches the hinge's own polygons there.
+        const bool isHinge = std::count(surface.hingePolygons.begin(),
+                                        surface.hingePolygons.end(), q.id) > 0;
+        if (q.isLight || isHinge || !crossesSegment(q, from, to, 1e-9 * size)) continue;
+        const double da = q.plane.signedDistance(from), db = q.plane.signedDistance(to);
+        const Vec3 x = from + (to - from) * (da / (da - db));
+        if (distance(x, surface.fan.hinge(u)) <= 1e-9 * size) continue;  // touches at the hinge
+        ++pierces;
+        Box3 at;
+        at.extend(x);
+        bool listed = false;
+        for (int cell : grid.cellsOverlappingBox(at))
+          listed = listed || std::binary_search(surface.cells.begin(), surface.cells.end(), cell);
+        EXPECT_TRUE(listed) << "surface " << surface.id << " polygon " << q.id;
+        bool stored = false;
+        for (const SurfaceIntersection& r : surface.intersections) {
+          if (r.polygon != q.id) continue;
+          const Vec3 ab = r.p1 - r.p0;
+          const double t = std::clamp(dot(x - r.p0, ab) / dot(ab, ab), 0.0, 1.0);
+          stored = stored || distance(x, r.p0 + ab * t) <= 1e-9 * size;
+        }
+        EXPECT_TRUE(stored) << "surface " << surface.id << " u " << u << " polygon " << q.id;
+      }
     }
   }
+  EXPECT_GT(pierces, 1000);
 }
 
 }  // namespace

@@ -76,10 +76,20 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
     std::vector<DiscontinuitySurface> surfaces =
         enumerateEmitterEvSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
+    surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,
+                                             SurfaceId(surfaces_.size()));
+    for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
+    surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
+    for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
   }
-  for (const DiscontinuitySurface& s : surfaces_)
-    (s.kind == SurfaceKind::kEmitterVertexOccluderEdge ? stats_.surfacesEmitterVertex
-                                                       : stats_.surfacesEmitterEdge)++;
+  for (const DiscontinuitySurface& s : surfaces_) {
+    switch (s.kind) {
+      case SurfaceKind::kEmitterVertexOccluderEdge: ++stats_.surfacesEmitterVertex; break;
+      case SurfaceKind::kEmitterEdgeOccluderVertex: ++stats_.surfacesEmitterEdge; break;
+      case SurfaceKind::kNonEmitterVertexEdge: ++stats_.surfacesNonEmitter; break;
+      case SurfaceKind::kLightEdgeOccluderPlane: ++stats_.surfacesOccluderPlane; break;
+    }
+  }
   stats_.secondsSurfaces = secondsSince(start);
 
   start = Clock::now();

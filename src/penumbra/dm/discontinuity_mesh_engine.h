@@ -28,6 +28,8 @@ struct DmStats {
   int lights = 0;
   int surfacesEmitterVertex = 0;  // light vertex × occluder edge
   int surfacesEmitterEdge = 0;    // light edge × occluder vertex
+  int surfacesNonEmitter = 0;     // occluder vertex × occluder edge
+  int surfacesOccluderPlane = 0;  // light edge × an occluder polygon's plane (degenerate EEE)
   long long storedIntersections = 0;
   long long visibleSegments = 0;
   long long contactSegments = 0;

@@ -28,4 +28,15 @@ double CriticalFan::depthParameter(const Vec3& x, double u) const {
   return dot(x - s, d) / dot(d, d);
 }
 
+double CriticalFan::hingeDepth(double u) const {
+  if (!hasSecondContact) return 1;
+  // L(u) = S + s (H − S) meets the contact line C0 + t (C1 − C0) in the fan's plane.
+  const Vec3 n = normal();
+  const Vec3 s0 = source(u), d = hinge(u) - s0, e = contact1 - contact0;
+  const double denominator = dot(n, cross(d, e));
+  if (denominator == 0) return 1;
+  const double s = dot(n, cross(contact0 - s0, e)) / denominator;
+  return s > 1 ? s : 1;
+}
+
 }  // namespace penumbra

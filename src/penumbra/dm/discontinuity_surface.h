@@ -3,8 +3,13 @@
 // Drettakis 1997 §3). An EV surface is a planar fan of critical lines L(u), u in [0, 1], each
 // through a source point S(u) on the light and a hinge point H(u) on an occluder, one of the two
 // fixed:
-//   - emitter vertex: S = a light vertex (fixed), H(u) on an occluder edge;
-//   - emitter edge:   S(u) on a light edge, H = an occluder vertex (fixed).
+//   - emitter vertex: S = a light vertex (fixed), H(u) on an occluder edge (also S = the point
+//                     where an occluder polygon's plane crosses a light edge, H(u) on one of that
+//                     polygon's edges);
+//   - emitter edge:   S(u) on a light edge, H = an occluder vertex (fixed);
+//   - non-emitter:    H = an occluder vertex (fixed), S(u) on the light's trace in the plane of H
+//                     and a second occluder edge E, restricted to the lines that also meet E.
+//                     The event lies beyond the farther of H and E: depth h(u) = max(1, s_E(u)).
 // L(u) is parameterized as S(u) + s (H(u) − S(u)): s in (0, 1) lies between light and hinge
 // (where anything blocks the event), s > 1 beyond the hinge (where the event meets receivers).
 // Each surface stores, for the incremental update, the grid cells it crosses and its
@@ -21,11 +26,20 @@ using SurfaceId = int;
 enum class SurfaceKind {
   kEmitterVertexOccluderEdge,  // EV: light vertex, occluder edge
   kEmitterEdgeOccluderVertex,  // EV: light edge, occluder vertex
+  kNonEmitterVertexEdge,       // EV: occluder vertex, occluder edge (lines meeting the light)
+  // Degenerate EEE: a light edge and two edges of one occluder polygon whose plane cuts the
+  // light. Seen from that plane the polygon is edge-on, and which of its edges bounds the visible
+  // light switches there. The critical lines run from the point T where the plane crosses the light
+  // edge through an edge of the polygon: a fan with the fixed source T.
+  kLightEdgeOccluderPlane,
 };
 
 struct CriticalFan {
   Vec3 source0, source1;  // S(0), S(1): equal when the source is a light vertex
   Vec3 hinge0, hinge1;    // H(0), H(1): equal when the hinge is an occluder vertex
+  // Non-emitter EV: the occluder edge every critical line also meets (else unused).
+  bool hasSecondContact = false;
+  Vec3 contact0{}, contact1{};
 
   Vec3 source(double u) const { return source0 + (source1 - source0) * u; }
   Vec3 hinge(double u) const { return hinge0 + (hinge1 - hinge0) * u; }
@@ -38,6 +52,9 @@ struct CriticalFan {
   // The u of the critical line through x (x in the fan's plane), and x's s along it.
   double criticalParameter(const Vec3& x) const;
   double depthParameter(const Vec3& x, double u) const;
+  // Where along L(u) the event starts: 1 (the hinge), or beyond it where the second contact lies
+  // farther from the light.
+  double hingeDepth(double u) const;
 };
 
 // Where a scene polygon cuts the fan (before visibility): a segment in the fan's plane.
@@ -52,7 +69,9 @@ struct DiscontinuitySurface {
   PolygonId light = 0;
   int lightFeature = 0;     // light vertex index, or light edge index (edge i: vertices i, i+1)
   int occluderFeature = 0;  // EdgeId or VertexId of EdgeAdjacency
-  std::vector<PolygonId> hingePolygons;  // polygons incident to the hinge: never block the event
+  int secondFeature = -1;   // non-emitter EV: the EdgeId of the second contact
+  // Polygons incident to the hinge (and second contact): never block the event.
+  std::vector<PolygonId> hingePolygons;
   CriticalFan fan;
   std::vector<int> cells;                          // grid cells the fan crosses (sorted)
   std::vector<SurfaceIntersection> intersections;  // stored before visibility

@@ -89,6 +89,12 @@ bool EdgeAdjacency::isSilhouetteFrom(EdgeId id, const Vec3& x) const {
   return !(s1 != Sign::kZero && s2 != Sign::kZero && s1 != s2);
 }
 
+EdgeId EdgeAdjacency::edgeBetween(VertexId a, VertexId b) const {
+  for (EdgeId e : vertices_[a].edges)
+    if ((edges_[e].a == a && edges_[e].b == b) || (edges_[e].a == b && edges_[e].b == a)) return e;
+  return -1;
+}
+
 bool EdgeAdjacency::canVertexBeSilhouette(VertexId v) const {
   // Inside a flat region every edge at v joins two coplanar polygons; a corner of a flat region
   // (a boundary edge at v) or any fold makes v a feature that light can graze.

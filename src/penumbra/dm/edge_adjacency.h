@@ -36,6 +36,8 @@ class EdgeAdjacency {
   const Vec3& position(VertexId v) const { return vertices_[v].position; }
   // The vertex of each corner of each polygon.
   const std::vector<VertexId>& polygonVertices(PolygonId p) const { return polygonVertices_[p]; }
+  // The edge joining two vertices, or -1.
+  EdgeId edgeBetween(VertexId a, VertexId b) const;
 
   // Is edge e a silhouette seen from point x: do its incident polygons lie on one side of the plane
   // through x and e? Exact. True for boundary and non-manifold edges and when x is on that plane's

@@ -71,22 +71,23 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
   for (size_t k = 0; k + 1 < breaks.size(); ++k) {
     const double u0 = breaks[k], u1 = breaks[k + 1];
     const double mid = 0.5 * (u0 + u1);
+    const double hinge = fan.hingeDepth(mid);
     const SurfaceIntersection* nearest = nullptr;
     double nearestDepth = 0;
     bool blocked = false;
     for (const SurfaceIntersection* r : records) {
       const auto hit = lineHit(fan, n, mid, r->p0, r->p1);
       if (!hit) continue;
-      if (hit->s > 0 && hit->s < 1 - kHingeDepthTolerance) {
+      if (hit->s > 0 && hit->s < hinge * (1 - kHingeDepthTolerance)) {
         blocked = true;
         break;
       }
-      if (hit->s >= 1 - kHingeDepthTolerance && (!nearest || hit->s < nearestDepth)) {
+      if (hit->s >= hinge * (1 - kHingeDepthTolerance) && (!nearest || hit->s < nearestDepth)) {
         nearest = r;
         nearestDepth = hit->s;
       }
     }
-    if (blocked || !nearest || nearestDepth <= 1 + kHingeDepthTolerance) continue;
+    if (blocked || !nearest || nearestDepth <= hinge * (1 + kHingeDepthTolerance)) continue;
     const auto h0 = lineHit(fan, n, u0, nearest->p0, nearest->p1);
     const auto h1 = lineHit(fan, n, u1, nearest->p0, nearest->p1);
     const Vec3 x0 =

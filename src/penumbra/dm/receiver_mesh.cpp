@@ -43,9 +43,14 @@ struct ReceiverMesh::Impl {
     return frame.toWorld({CGAL::to_double(p.x()), CGAL::to_double(p.y())});
   }
 
-  // A point strictly inside face f: on a vertical line between the two leftmost distinct
-  // vertex abscissae, the face's boundary crossings alternate in and out; take the middle of the
-  // first interval. Exact.
+  // A point strictly inside face f, as far from its boundary as a cheap search finds: on the
+  // vertical line through the middle of every slab between consecutive distinct vertex abscissae,
+  // the boundary crossings alternate in and out of the face; take the middle of the inside
+  // interval that maximizes min(interval length, slab width), so that the point is away from the
+  // boundary both across and along the line. Faces of a discontinuity mesh can be slivers beside
+  // long ones (nearly coincident events, slabs a few ulps wide), and a sample near an edge would
+  // label the big face with a neighbour's backprojection. Slab and interval are chosen in
+  // floating point; the point is constructed exactly.
   std::optional<Point> interiorPoint(Arrangement::Face_const_handle f) const {
     std::vector<Arrangement::Halfedge_const_handle> boundary;
     const auto collect = [&](Arrangement::Ccb_halfedge_const_circulator first) {
@@ -62,7 +67,36 @@ struct ReceiverMesh::Impl {
     std::sort(xs.begin(), xs.end());
     xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
     if (xs.size() < 2) return std::nullopt;
-    const FT x0 = (xs[0] + xs[1]) / 2;
+    // Crossings of the vertical line x with the boundary, in floating point.
+    const auto crossings = [&](double x) {
+      std::vector<double> ys;
+      for (auto h : boundary) {
+        const double ax = CGAL::to_double(h->source()->point().x());
+        const double bx = CGAL::to_double(h->target()->point().x());
+        if ((ax < x) == (bx < x)) continue;
+        const double ay = CGAL::to_double(h->source()->point().y());
+        const double by = CGAL::to_double(h->target()->point().y());
+        ys.push_back(ay + (by - ay) * (x - ax) / (bx - ax));
+      }
+      std::sort(ys.begin(), ys.end());
+      return ys;
+    };
+    size_t bestSlab = 0, bestInterval = 0;
+    double bestScore = -1;
+    for (size_t k = 0; k + 1 < xs.size(); ++k) {
+      const double x0 = CGAL::to_double(xs[k]), x1 = CGAL::to_double(xs[k + 1]);
+      const std::vector<double> ys = crossings(0.5 * (x0 + x1));
+      for (size_t i = 0; i + 1 < ys.size(); i += 2) {
+        const double score = std::min(ys[i + 1] - ys[i], x1 - x0);
+        if (score > bestScore) {
+          bestScore = score;
+          bestSlab = k;
+          bestInterval = i;
+        }
+      }
+    }
+    // The exact crossings on the chosen line, in the same order.
+    const FT x0 = (xs[bestSlab] + xs[bestSlab + 1]) / 2;
     std::vector<FT> ys;
     for (auto h : boundary) {
       const Point& a = h->source()->point();
@@ -71,8 +105,8 @@ struct ReceiverMesh::Impl {
       ys.push_back(a.y() + (b.y() - a.y()) * (x0 - a.x()) / (b.x() - a.x()));
     }
     std::sort(ys.begin(), ys.end());
-    if (ys.size() < 2) return std::nullopt;
-    return Point(x0, (ys[0] + ys[1]) / 2);
+    if (ys.size() < bestInterval + 2) return std::nullopt;
+    return Point(x0, (ys[bestInterval] + ys[bestInterval + 1]) / 2);
   }
 
   void indexFaces() {
@@ -195,6 +229,24 @@ std::vector<Vec3> ReceiverMesh::vertexPositions() const {
   for (auto v = impl_->arrangement.vertices_begin(); v != impl_->arrangement.vertices_end(); ++v)
     out.push_back(impl_->toWorld(v->point()));
   return out;
+}
+
+std::vector<Polygon3> ReceiverMesh::faceBoundary(int face) const {
+  std::vector<Polygon3> cycles;
+  for (auto f = impl_->arrangement.faces_begin(); f != impl_->arrangement.faces_end(); ++f) {
+    if (f->data() != face) continue;
+    const auto cycle = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+      Polygon3 out;
+      auto c = first;
+      do out.push_back(impl_->toWorld(c->source()->point()));
+      while (++c != first);
+      cycles.push_back(std::move(out));
+    };
+    if (f->has_outer_ccb()) cycle(f->outer_ccb());
+    for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycle(*h);
+    break;
+  }
+  return cycles;
 }
 
 size_t ReceiverMesh::memoryBytes() const {

@@ -49,6 +49,9 @@ class ReceiverMesh {
   // Every edge as a 3D segment with its surfaces (for drawing and statistics).
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> edges() const;
   std::vector<Vec3> vertexPositions() const;
+  // The boundary cycles of a face (outer first, then holes), vertices in order, antennas
+  // included (for drawing, triangulation and diagnostics).
+  std::vector<Polygon3> faceBoundary(int face) const;
   size_t memoryBytes() const;
 
  private:

@@ -7,17 +7,17 @@
 
 namespace penumbra {
 
-Polygon3 boundedFan(const CriticalFan& fan, const Box3& sceneBounds) {
+std::vector<Polygon3> boundedFan(const CriticalFan& fan, const Box3& sceneBounds) {
   const double reach = 1.01 * sceneBounds.diagonalLength();
   const auto far = [&](const Vec3& s, const Vec3& h) {
     const Vec3 d = h - s;
     return s + d * (1 + reach / length(d));
   };
-  Polygon3 polygon{fan.source0};
-  if (!(fan.source1 == fan.source0)) polygon.push_back(fan.source1);
-  polygon.push_back(far(fan.source1, fan.hinge1));
-  polygon.push_back(far(fan.source0, fan.hinge0));
-  return polygon;
+  const Vec3 far0 = far(fan.source0, fan.hinge0), far1 = far(fan.source1, fan.hinge1);
+  // A fixed source: the lines spread from it, one triangle. A fixed hinge: the lines cross there,
+  // so the fan is two triangles meeting at the hinge (the quadrilateral would be a bow tie).
+  if (fan.source0 == fan.source1) return {{fan.source0, far1, far0}};
+  return {{fan.source0, fan.source1, fan.hinge0}, {fan.hinge0, far1, far0}};
 }
 
 std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const Polygon3& convex) {
@@ -68,23 +68,26 @@ std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const 
 }
 
 void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid) {
-  const Polygon3 fan = boundedFan(surface.fan, grid.bounds());
+  const std::vector<Polygon3> pieces = boundedFan(surface.fan, grid.bounds());
   surface.cells.clear();
   surface.intersections.clear();
   std::vector<PolygonId> candidates;
-  grid.forEachCellOverlappingBox(boundingBox(fan), [&](int cell) {
-    if (!polygonCutsBox(fan, grid.cellBounds(cell))) return;
-    surface.cells.push_back(cell);
-    const auto& listed = grid.polygonsInCell(cell);
-    candidates.insert(candidates.end(), listed.begin(), listed.end());
-  });
+  for (const Polygon3& piece : pieces)
+    grid.forEachCellOverlappingBox(boundingBox(piece), [&](int cell) {
+      if (!polygonCutsBox(piece, grid.cellBounds(cell))) return;
+      surface.cells.push_back(cell);
+      const auto& listed = grid.polygonsInCell(cell);
+      candidates.insert(candidates.end(), listed.begin(), listed.end());
+    });
   std::sort(surface.cells.begin(), surface.cells.end());
+  surface.cells.erase(std::unique(surface.cells.begin(), surface.cells.end()), surface.cells.end());
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   for (PolygonId id : candidates) {
     if (id == surface.light) continue;
-    for (const auto& [p0, p1] : intersectWithConvex(scene.polygons[id].vertices, fan))
-      surface.intersections.push_back({id, p0, p1});
+    for (const Polygon3& piece : pieces)
+      for (const auto& [p0, p1] : intersectWithConvex(scene.polygons[id].vertices, piece))
+        surface.intersections.push_back({id, p0, p1});
   }
 }
 

@@ -10,8 +10,9 @@
 
 namespace penumbra {
 
-// The fan as a convex polygon from the light (s = 0) to beyond the scene's box.
-Polygon3 boundedFan(const CriticalFan& fan, const Box3& sceneBounds);
+// The fan from the light (s = 0) to beyond the scene's box, as convex pieces: one triangle when
+// the source is a light vertex, two meeting at the hinge when the hinge is a vertex.
+std::vector<Polygon3> boundedFan(const CriticalFan& fan, const Box3& sceneBounds);
 
 // Fills surface.cells and surface.intersections (the light polygon itself is not intersected).
 void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid);

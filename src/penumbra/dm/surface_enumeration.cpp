@@ -1,6 +1,11 @@
 #include "penumbra/dm/surface_enumeration.h"
 
+#include "penumbra/geometry/predicates.h"
+
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
 
 namespace penumbra {
 
@@ -8,6 +13,55 @@ namespace {
 
 bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
   return std::find(polygons.begin(), polygons.end(), light) != polygons.end();
+}
+
+// The segment where a plane (normal m through point o) cuts the light polygon: its two extreme
+// crossings (the whole trace for a convex light, its hull otherwise: extra lines only refine).
+std::optional<std::array<Vec3, 2>> lightTrace(const Polygon3& light, const Vec3& lightNormal,
+                                               const Vec3& m, const Vec3& o) {
+  const Vec3 along = cross(m, lightNormal);
+  if (squaredLength(along) == 0) return std::nullopt;  // the plane is the light's plane
+  std::optional<Vec3> lo, hi;
+  for (size_t i = 0; i < light.size(); ++i) {
+    const Vec3& c = light[i];
+    const Vec3& d = light[(i + 1) % light.size()];
+    const double dc = dot(m, c - o), dd = dot(m, d - o);
+    if ((dc > 0 && dd > 0) || (dc < 0 && dd < 0) || (dc == 0 && dd == 0)) continue;
+    const Vec3 x = c + (d - c) * (dc / (dc - dd));
+    if (!lo || dot(x, along) < dot(*lo, along)) lo = x;
+    if (!hi || dot(x, along) > dot(*hi, along)) hi = x;
+  }
+  if (!lo || *lo == *hi) return std::nullopt;
+  return std::array<Vec3, 2>{*lo, *hi};
+}
+
+// The ranges of w in [0, 1] where the line through S(w) = s0 + w (s1 − s0) and v separates a
+// from b in their common plane (normal m): where g_a(w) g_b(w) <= 0 for the affine orientations
+// g_x(w) = m · ((v − S(w)) × (x − v)).
+std::vector<std::array<double, 2>> separatingRanges(const Vec3& s0, const Vec3& s1, const Vec3& v,
+                                                    const Vec3& a, const Vec3& b, const Vec3& m) {
+  const auto g = [&](const Vec3& x, double w) {
+    return dot(m, cross(v - (s0 + (s1 - s0) * w), x - v));
+  };
+  std::vector<double> breaks{0, 1};
+  for (const Vec3& x : {a, b}) {
+    const double g0 = g(x, 0), g1 = g(x, 1);
+    if (g0 != g1) {
+      const double r = g0 / (g0 - g1);
+      if (r > 0 && r < 1) breaks.push_back(r);
+    }
+  }
+  std::sort(breaks.begin(), breaks.end());
+  std::vector<std::array<double, 2>> ranges;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
+    const double w = 0.5 * (breaks[k] + breaks[k + 1]);
+    if (breaks[k + 1] <= breaks[k] || g(a, w) * g(b, w) > 0) continue;
+    if (!ranges.empty() && ranges.back()[1] == breaks[k])
+      ranges.back()[1] = breaks[k + 1];
+    else
+      ranges.push_back({breaks[k], breaks[k + 1]});
+  }
+  return ranges;
 }
 
 }  // namespace
@@ -61,6 +115,125 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
       s.hingePolygons = vertex.polygons;
       s.fan = {lv[i], lv[(i + 1) % lv.size()], vertex.position, vertex.position};
       surfaces.push_back(std::move(s));
+    }
+  }
+  return surfaces;
+}
+
+std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene& scene,
+                                                                const EdgeAdjacency& adjacency,
+                                                                const UniformGrid& grid,
+                                                                PolygonId light, SurfaceId firstId) {
+  std::vector<DiscontinuitySurface> surfaces;
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const Plane& lightPlane = lightPolygon.plane;
+  const Polygon3& lv = lightPolygon.vertices;
+  const double reach = 2 * scene.bounds.diagonalLength();
+  std::vector<int> seen(adjacency.edges().size(), -1);  // last vertex that examined each edge
+
+  for (size_t vi = 0; vi < adjacency.vertices().size(); ++vi) {
+    const SceneVertex& vertex = adjacency.vertices()[vi];
+    const Vec3& v = vertex.position;
+    const double hv = lightPlane.signedDistance(v);
+    if (hv <= 0 || touchesLight(vertex.polygons, light)) continue;
+    if (!adjacency.canVertexBeSilhouette(VertexId(vi))) continue;
+    // Every line from the light through v: the shaft between them and its extension beyond v.
+    Box3 region = lightPolygon.bounds;
+    region.extend(v);
+    for (const Vec3& c : lv) region.extend(v + normalize(v - c) * reach);
+    for (PolygonId id : grid.polygonsInBox(region)) {
+      if (id == light) continue;
+      const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
+      for (size_t k = 0; k < corners.size(); ++k) {
+        const VertexId ia = corners[k], ib = corners[(k + 1) % corners.size()];
+        if (ia == ib || ia == VertexId(vi) || ib == VertexId(vi)) continue;
+        const EdgeId edgeId = adjacency.edgeBetween(ia, ib);
+        if (edgeId < 0 || seen[edgeId] == int(vi)) continue;
+        seen[edgeId] = int(vi);
+        const SceneEdge& edge = adjacency.edges()[edgeId];
+        if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
+        if (!adjacency.isSilhouetteFrom(edgeId, v)) continue;
+        // The part of the edge in front of the light.
+        Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
+        const double da = lightPlane.signedDistance(a), db = lightPlane.signedDistance(b);
+        if (da <= 0 && db <= 0) continue;
+        if (da <= 0) a = a + (b - a) * (da / (da - db));
+        if (db <= 0) b = b + (a - b) * (db / (db - da));
+        const Vec3 m = cross(b - a, v - a);
+        if (a == b || squaredLength(m) == 0) continue;
+        const auto trace = lightTrace(lv, lightPlane.normal, m, v);
+        if (!trace) continue;
+        const auto [t0, t1] = *trace;
+        for (const auto& [w0, w1] : separatingRanges(t0, t1, v, a, b, m)) {
+          DiscontinuitySurface s;
+          s.id = firstId + SurfaceId(surfaces.size());
+          s.kind = SurfaceKind::kNonEmitterVertexEdge;
+          s.light = light;
+          s.lightFeature = -1;
+          s.occluderFeature = VertexId(vi);
+          s.secondFeature = edgeId;
+          s.hingePolygons = vertex.polygons;
+          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+          s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v};
+          s.fan.hasSecondContact = true;
+          s.fan.contact0 = a;
+          s.fan.contact1 = b;
+          surfaces.push_back(std::move(s));
+        }
+      }
+    }
+  }
+  return surfaces;
+}
+
+std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
+                                                                 const EdgeAdjacency& adjacency,
+                                                                 PolygonId light,
+                                                                 SurfaceId firstId) {
+  std::vector<DiscontinuitySurface> surfaces;
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const Plane& lightPlane = lightPolygon.plane;
+  const Polygon3& lv = lightPolygon.vertices;
+  for (const WorldPolygon& q : scene.polygons) {
+    if (q.isLight || q.id == light) continue;
+    const std::vector<VertexId>& corners = adjacency.polygonVertices(q.id);
+    // Exact sides of the light's vertices against the polygon's plane.
+    std::vector<Sign> sides;
+    bool above = false, below = false;
+    for (const Vec3& c : lv) {
+      sides.push_back(orientation3d(q.vertices[0], q.vertices[1], q.vertices[2], c));
+      above = above || sides.back() == Sign::kPositive;
+      below = below || sides.back() == Sign::kNegative;
+    }
+    if (!above || !below) continue;
+    for (size_t i = 0; i < lv.size(); ++i) {
+      const size_t j = (i + 1) % lv.size();
+      if (sides[i] == sides[j] || sides[i] == Sign::kZero || sides[j] == Sign::kZero) continue;
+      const double di = q.plane.signedDistance(lv[i]), dj = q.plane.signedDistance(lv[j]);
+      const Vec3 t = lv[i] + (lv[j] - lv[i]) * (di / (di - dj));
+      for (size_t k = 0; k < corners.size(); ++k) {
+        const EdgeId edgeId = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+        if (edgeId < 0) continue;
+        const SceneEdge& edge = adjacency.edges()[edgeId];
+        if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
+        Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
+        const double da = lightPlane.signedDistance(a), db = lightPlane.signedDistance(b);
+        if (da <= 0 && db <= 0) continue;
+        if (da <= 0) a = a + (b - a) * (da / (da - db));
+        if (db <= 0) b = b + (a - b) * (db / (db - da));
+        if (a == b || squaredLength(cross(a - t, b - t)) == 0) continue;
+        DiscontinuitySurface s;
+        s.id = firstId + SurfaceId(surfaces.size());
+        s.kind = SurfaceKind::kLightEdgeOccluderPlane;
+        s.light = light;
+        s.lightFeature = int(i);
+        s.occluderFeature = edgeId;
+        s.secondFeature = q.id;
+        s.hingePolygons = edge.polygons;
+        s.hingePolygons.push_back(q.id);
+        s.fan = {t, t, a, b};
+        surfaces.push_back(std::move(s));
+      }
     }
   }
   return surfaces;

@@ -2,17 +2,34 @@
 // Enumerates the EV discontinuity surfaces of one light (Drettakis & Fiume 1994 §3): light vertex ×
 // occluder edge, and light edge × occluder vertex, keeping only occluder features that can be
 // silhouettes from the light feature (exact predicates, conservative) and lie in front of the
-// light. Non-emitter EV and EEE surfaces are not enumerated yet.
+// light; and non-emitter EV (occluder vertex × occluder edge) restricted to the critical lines that
+// meet the light. EEE surfaces are not enumerated yet.
 
 #include <vector>
 
 #include "penumbra/dm/discontinuity_surface.h"
 #include "penumbra/dm/edge_adjacency.h"
+#include "penumbra/spatial/uniform_grid.h"
 
 namespace penumbra {
 
 std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& scene,
                                                              const EdgeAdjacency& adjacency,
                                                              PolygonId light, SurfaceId firstId);
+
+// Occluder vertex V × occluder edge E (V not on E), both in front of the light, E a silhouette
+// seen from V: the lines through V and E that meet the light, one surface per connected range of
+// them. Candidate edges come from the grid cells around the shaft from the light through V.
+std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene& scene,
+                                                                const EdgeAdjacency& adjacency,
+                                                                const UniformGrid& grid,
+                                                                PolygonId light, SurfaceId firstId);
+
+// For every occluder polygon whose plane cuts the light (light vertices strictly on both sides):
+// from each point T where the plane crosses a light edge, one fan through each edge of the polygon
+// (see SurfaceKind::kLightEdgeOccluderPlane).
+std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
+                                                                 const EdgeAdjacency& adjacency,
+                                                                 PolygonId light, SurfaceId firstId);
 
 }  // namespace penumbra
