@@ -16,8 +16,8 @@
 
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
-#include "penumbra/scene/scene_generator.h"
 #include "penumbra/scene/receiver_sampling.h"
+#include "penumbra/scene/scene_generator.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
@@ -30,7 +30,6 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
 
 }  // namespace
 
@@ -78,13 +77,15 @@ int main(int argc, char** argv) {
       start = Clock::now();
       for (const auto& q : points) check2 += bruteForce.irradiance(q.p, q.n, q.receiver).r;
       bruteSeconds = secondsSince(start);
-      if (check2 != checksum) std::printf("  (grid and brute force differ: %.17g vs %.17g)\n", checksum, check2);
+      if (check2 != checksum)
+        std::printf("  (grid and brute force differ: %.17g vs %.17g)\n", checksum, check2);
     }
-    std::printf("%-22s %9zu %7zu %12.1f %12s %10s %12.3f\n", name.c_str(), posed.polygons.size(),
-                posed.lights.size(), 1e6 * gridSeconds / pointCount,
-                runBrute ? std::to_string(int(1e6 * bruteSeconds / pointCount)).c_str() : "-",
-                runBrute ? (std::to_string(bruteSeconds / gridSeconds).substr(0, 5) + "x").c_str() : "-",
-                gridBuild);
+    std::printf(
+        "%-22s %9zu %7zu %12.1f %12s %10s %12.3f\n", name.c_str(), posed.polygons.size(),
+        posed.lights.size(), 1e6 * gridSeconds / pointCount,
+        runBrute ? std::to_string(int(1e6 * bruteSeconds / pointCount)).c_str() : "-",
+        runBrute ? (std::to_string(bruteSeconds / gridSeconds).substr(0, 5) + "x").c_str() : "-",
+        gridBuild);
   }
 
   // Monte Carlo error against samples, at penumbra points of desk-475 (where 0 < E < unoccluded).
@@ -101,7 +102,8 @@ int main(int argc, char** argv) {
     const double e = reference.irradiance(q.p, q.n, q.receiver).r;
     double unoccluded = 0;
     for (PolygonId l : posed.lights)
-      unoccluded += reference.unoccludedFormFactor(q.p, q.n, l) * posed.materialOf(posed.polygons[l]).emission.r;
+      unoccluded += reference.unoccludedFormFactor(q.p, q.n, l) *
+                    posed.materialOf(posed.polygons[l]).emission.r;
     if (e > 0.05 * unoccluded && e < 0.95 * unoccluded) {
       penumbra.push_back(q);
       exact.push_back(e);
@@ -111,9 +113,10 @@ int main(int argc, char** argv) {
   auto start = Clock::now();
   for (const auto& q : penumbra) (void)reference.irradiance(q.p, q.n, q.receiver);
   const double exactSeconds = secondsSince(start) / penumbra.size();
-  std::printf("penumbra points: %zu; exact reference: %.1f us/point\n", penumbra.size(), 1e6 * exactSeconds);
-  std::printf("%12s %14s %14s %12s %16s\n", "rays/point", "rms rel error", "mean rel SE", "us/point",
-              "MC/exact time");
+  std::printf("penumbra points: %zu; exact reference: %.1f us/point\n", penumbra.size(),
+              1e6 * exactSeconds);
+  std::printf("%12s %14s %14s %12s %16s\n", "rays/point", "rms rel error", "mean rel SE",
+              "us/point", "MC/exact time");
   for (int samples : quick ? std::vector<int>{4, 64} : std::vector<int>{4, 16, 64, 256, 1024}) {
     const MonteCarloOptions options{samples, 16, 3};
     double sumSq = 0, sumSe = 0;

@@ -3,13 +3,15 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
+
+#include <vector>
 
 #include "support/temp_dir.h"
 
@@ -29,7 +31,8 @@ RunResult runPenumbra(const std::string& arguments) {
   if (!pipe) return result;
   std::array<char, 4096> buffer;
   size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
@@ -75,6 +78,63 @@ TEST(Cli, ProbeReferencePrintsCsvWithSeventeenDigits) {
   EXPECT_NE(umbra.output.find("0,0,0,0,0,2,0,0,0"), std::string::npos) << umbra.output;
 }
 
+// The r column of a probe CSV, row by row.
+std::vector<double> redColumn(const std::string& csv) {
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);  // header
+  std::vector<double> values;
+  while (std::getline(lines, line)) {
+    std::istringstream fields(line);
+    std::string field;
+    for (int column = 0; column <= 6; ++column) std::getline(fields, field, ',');
+    values.push_back(std::stod(field));
+  }
+  return values;
+}
+
+TEST(Cli, ProbeDmEqualsTheReferenceAcrossAPenumbra) {
+  test::TempDir dir;
+  const std::string lampAndFloor = R"({ "penumbra": 1,
+  "materials": { "white": { "reflectance": [0.5, 0.5, 0.5] },
+                 "lamp": { "reflectance": [0, 0, 0], "emission": [1, 1, 1] } },
+  "objects": [
+    { "name": "lamp", "material": "lamp", "polygons": [ [[-1,-1,2],[-1,1,2],[1,1,2],[1,-1,2]] ] },
+    { "name": "floor", "material": "white", "polygons": [ [[-5,-5,0],[5,-5,0],[5,5,0],[-5,5,0]] ] })";
+  const std::string unblocked = dir.write("unblocked.json", lampAndFloor + " ] }");
+  // A tilted card smaller than the light: no umbra, a penumbra all around.
+  const std::string scene = dir.write("scene.json", lampAndFloor + R"(,
+    { "name": "card", "material": "white",
+      "polygons": [ [[-0.3,-0.2,0.96],[0.4,-0.3,1.025],[0.35,0.4,1.055],[-0.25,0.3,0.99]] ] } ] })");
+  std::string grid;
+  for (int i = 0; i < 15; ++i)
+    for (int j = 0; j < 15; ++j)
+      grid += std::to_string(-1.75 + 0.25 * i + 0.013 * j) + " " +
+              std::to_string(-1.75 + 0.25 * j + 0.007 * i) + " 0 0 0 1\n";
+  const std::string points = dir.write("points.txt", grid);
+  const RunResult dm = runPenumbra("probe " + scene + " --points " + points + " --method dm");
+  const RunResult reference = runPenumbra("probe " + scene + " --points " + points);
+  const RunResult open = runPenumbra("probe " + unblocked + " --points " + points);
+  ASSERT_EQ(dm.exitCode, 0) << dm.output;
+  ASSERT_EQ(open.exitCode, 0) << open.output;
+  ASSERT_EQ(reference.exitCode, 0) << reference.output;
+  const std::vector<double> a = redColumn(dm.output), b = redColumn(reference.output),
+                            lit = redColumn(open.output);
+  ASSERT_EQ(a.size(), 225u);
+  ASSERT_EQ(b.size(), 225u);
+  int penumbra = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_NEAR(a[i], b[i], 1e-9 * std::max(b[i], 1e-3)) << "point " << i;
+    penumbra += b[i] > 0 && b[i] < 0.999 * lit[i] ? 1 : 0;
+  }
+  EXPECT_GT(penumbra, 5);  // the grid does cross the card's penumbra
+  // A point on no receiver is an error naming its line.
+  const std::string off = dir.write("off.txt", "0 0 0 0 0 1\n0 0 0.5 0 0 1\n");
+  const RunResult bad = runPenumbra("probe " + scene + " --points " + off + " --method dm");
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.output.find("off.txt:2"), std::string::npos) << bad.output;
+}
+
 TEST(Cli, ProbePointsRoundedOffTheirReceiverStillSeeTheLight) {
   // A point written with rounding that puts it 1e-7 behind the floor is still on the floor: the
   // floor must not occlude it.
@@ -102,8 +162,8 @@ TEST(Cli, ExitCodesAndMessages) {
   EXPECT_EQ(badLine.exitCode, 2);
   EXPECT_NE(badLine.output.find("bad.txt:2"), std::string::npos) << badLine.output;
 
-  const RunResult zeroNormal = runPenumbra("probe " + scene + " --points " +
-                                           dir.write("zero.txt", "0 0 0 0 0 0\n"));
+  const RunResult zeroNormal =
+      runPenumbra("probe " + scene + " --points " + dir.write("zero.txt", "0 0 0 0 0 0\n"));
   EXPECT_EQ(zeroNormal.exitCode, 2);
   EXPECT_NE(zeroNormal.output.find("zero.txt:1"), std::string::npos);
 

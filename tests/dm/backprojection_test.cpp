@@ -17,7 +17,6 @@
 namespace penumbra {
 namespace {
 
-
 double formFactorOf(const std::vector<Polygon3>& rings, const Vec3& p, const Vec3& n) {
   double f = 0;
   for (const Polygon3& ring : rings) f += pointToPolygonFormFactor(p, n, ring);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "penumbra/geometry/quaternion.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/scene/receiver_sampling.h"
 #include "support/boxes.h"
@@ -78,6 +79,24 @@ TEST(DiscontinuityMeshEngine, TiltedTriangleIsExact) {
   test::SceneBuilder b = litRoom();
   b.addPolygon("white", {{1.3, 1.2, 1.0}, {2.6, 1.9, 1.5}, {1.9, 2.8, 1.2}});
   expectExact(b.pose(), 1500, 3);
+}
+
+TEST(DiscontinuityMeshEngine, RotatedBoxIsExact) {
+  test::SceneBuilder b = litRoom();
+  // A box turned about a tilted axis: no face parallel to the light or to the room.
+  const Quaternion turn = Quaternion::fromAxisAngle(normalize(Vec3{1, 2, 0.5}), 0.7);
+  for (Polygon3 face : test::boxFaces({-0.35, -0.25, -0.2}, {0.35, 0.25, 0.2})) {
+    for (Vec3& v : face) v = turn.toMatrix() * v + Vec3{2.1, 1.9, 1.3};
+    b.addPolygon("white", face, "box");
+  }
+  expectExact(b.pose(), 1500, 4);
+}
+
+TEST(DiscontinuityMeshEngine, TwoBoxesWithSeparateShadowsAreExact) {
+  test::SceneBuilder b = litRoom();
+  test::addBox(b, "white", "near", {0.4, 0.5, 0.9}, {0.9, 1.0, 1.3});
+  test::addBox(b, "white", "far", {3.0, 2.9, 0.9}, {3.5, 3.4, 1.5});
+  expectExact(b.pose(), 1500, 5);
 }
 
 }  // namespace

@@ -114,8 +114,8 @@ TEST(EmitterSurfaces, CastingStoresEveryPolygonEveryCriticalLineMeets) {
       const Vec3 to = from + direction * (2 * size);
       for (const WorldPolygon& q : scene.polygons) {
         // A line through the hinge only touches the hinge's own polygons there.
-        const bool isHinge = std::count(surface.hingePolygons.begin(),
-                                        surface.hingePolygons.end(), q.id) > 0;
+        const bool isHinge =
+            std::count(surface.hingePolygons.begin(), surface.hingePolygons.end(), q.id) > 0;
         if (q.isLight || isHinge || !crossesSegment(q, from, to, 1e-9 * size)) continue;
         const double da = q.plane.signedDistance(from), db = q.plane.signedDistance(to);
         const Vec3 x = from + (to - from) * (da / (da - db));

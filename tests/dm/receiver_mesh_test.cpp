@@ -35,7 +35,8 @@ TEST(ReceiverMesh, StartsAsTheReceiverPolygon) {
 TEST(ReceiverMesh, InsertSplitsAndRemoveRestoresLocally) {
   ReceiverMesh mesh(unitSquareReceiver());
   // A diagonal from surface 7 and, overlapping half of it, a piece from surface 8.
-  mesh.insert({{7, 0, {0, 0, 0}, {1, 1, 0}, 0, 1}, {8, 0, {0.5, 0.5, 0}, {1, 1, 0}, 0, 1},
+  mesh.insert({{7, 0, {0, 0, 0}, {1, 1, 0}, 0, 1},
+               {8, 0, {0.5, 0.5, 0}, {1, 1, 0}, 0, 1},
                {9, 0, {0.2, 0.8, 0}, {0.4, 0.6, 0}, 0, 1}});  // an antenna-free dangling piece
   ASSERT_EQ(mesh.faces().size(), 2u);
   EXPECT_NEAR(totalArea(mesh), 1.0, 1e-15);

@@ -48,10 +48,10 @@ struct RenderOptions {
   std::string output;
   std::string size;  // WxH, empty: the scene camera's
   int samplesPerPixel = 1;
-  int lightSamples = 1;      // volumes: jittered point lights per area light (1: the centroid)
-  double exposure = 0;       // 0: automatic
-  std::string exr;           // optional raw irradiance output
-  double tolerance = 1e-3;   // radiosity: refinement tolerance
+  int lightSamples = 1;     // volumes: jittered point lights per area light (1: the centroid)
+  double exposure = 0;      // 0: automatic
+  std::string exr;          // optional raw irradiance output
+  double tolerance = 1e-3;  // radiosity: refinement tolerance
 };
 int runRender(const RenderOptions& options, const CommonOptions& common);
 

@@ -53,9 +53,8 @@ int runInfo(const InfoOptions& options, const CommonOptions&) {
   std::printf("bounds (frame %d) [%g, %g, %g] .. [%g, %g, %g]\n", frame, posed.bounds.min.x,
               posed.bounds.min.y, posed.bounds.min.z, posed.bounds.max.x, posed.bounds.max.y,
               posed.bounds.max.z);
-  std::printf("bounds (frames)  [%g, %g, %g] .. [%g, %g, %g]\n", allFrames.min.x,
-              allFrames.min.y, allFrames.min.z, allFrames.max.x, allFrames.max.y,
-              allFrames.max.z);
+  std::printf("bounds (frames)  [%g, %g, %g] .. [%g, %g, %g]\n", allFrames.min.x, allFrames.min.y,
+              allFrames.min.z, allFrames.max.x, allFrames.max.y, allFrames.max.z);
   if (closedness.isSceneClosed)
     std::printf("closed           yes\n");
   else

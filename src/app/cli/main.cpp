@@ -52,8 +52,9 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--size", render.size, "WxH (default: the scene camera's)");
   renderCommand->add_option("--spp", render.samplesPerPixel, "Samples per pixel (antialiasing)")
       ->check(CLI::Range(1, 4096));
-  renderCommand->add_option("--light-samples", render.lightSamples,
-                            "volumes: stratified point lights per area light (1: its centroid)")
+  renderCommand
+      ->add_option("--light-samples", render.lightSamples,
+                   "volumes: stratified point lights per area light (1: its centroid)")
       ->check(CLI::Range(1, 65536));
   renderCommand->add_option("--exposure", render.exposure, "Exposure (default: automatic)")
       ->check(CLI::NonNegativeNumber);

@@ -11,8 +11,8 @@ namespace penumbra::cli {
 
 struct ProbePoint {
   Vec3 position;
-  Vec3 normal;      // unit length
-  Vec3 rawNormal;   // as written in the file, echoed in the output
+  Vec3 normal;     // unit length
+  Vec3 rawNormal;  // as written in the file, echoed in the output
   int line = 0;
 };
 

@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "penumbra/base/input_error.h"
 #include "penumbra/base/parallel_for.h"
+#include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/radiosity/radiosity_solver.h"
@@ -44,9 +45,9 @@ void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResu
 
 int runProbe(const ProbeOptions& options, const CommonOptions& common) {
   if (options.method != "reference" && options.method != "montecarlo" &&
-      options.method != "radiosity")
+      options.method != "radiosity" && options.method != "dm")
     throw UsageError("--method " + options.method +
-                     " is not available in this build (available: reference, montecarlo, "
+                     " is not available in this build (available: reference, dm, montecarlo, "
                      "radiosity)");
   const Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
@@ -67,6 +68,20 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                                receiver ? std::optional(receiver->polygon) : std::nullopt);
       progress.advance();
     });
+  } else if (options.method == "dm") {
+    // The incremental update is not built yet, so every frame is a full computation (what
+    // --full asks for); the located face's backprojection gives each value.
+    DiscontinuityMeshEngine engine;
+    engine.build(PosedScene(posed));
+    Progress progress("probe (dm)", (long long)points.size(), common.quiet);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto value = engine.irradiance(points[i].position, points[i].normal);
+      if (!value)
+        throw InputError(options.points + ":" + std::to_string(points[i].line),
+                         "the point lies on no receiver facing its normal");
+      results[i].value = *value;
+      progress.advance();
+    }
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
     RadiosityOptions radiosityOptions;

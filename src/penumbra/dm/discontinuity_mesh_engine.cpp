@@ -56,7 +56,9 @@ DiscontinuitySegment extended(DiscontinuitySegment s, double by) {
 DiscontinuityMeshEngine::DiscontinuityMeshEngine() = default;
 DiscontinuityMeshEngine::~DiscontinuityMeshEngine() = default;
 
-void DiscontinuityMeshEngine::build(const Scene& scene, int frame) { build(poseAt(scene, frame)); }
+void DiscontinuityMeshEngine::build(const Scene& scene, int frame) {
+  build(poseAt(scene, frame));
+}
 
 void DiscontinuityMeshEngine::build(PosedScene posed) {
   stats_ = {};
@@ -79,15 +81,24 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
     surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,
                                              SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
-    surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
+    surfaces =
+        enumerateOccluderPlaneSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
   }
   for (const DiscontinuitySurface& s : surfaces_) {
     switch (s.kind) {
-      case SurfaceKind::kEmitterVertexOccluderEdge: ++stats_.surfacesEmitterVertex; break;
-      case SurfaceKind::kEmitterEdgeOccluderVertex: ++stats_.surfacesEmitterEdge; break;
-      case SurfaceKind::kNonEmitterVertexEdge: ++stats_.surfacesNonEmitter; break;
-      case SurfaceKind::kLightEdgeOccluderPlane: ++stats_.surfacesOccluderPlane; break;
+      case SurfaceKind::kEmitterVertexOccluderEdge:
+        ++stats_.surfacesEmitterVertex;
+        break;
+      case SurfaceKind::kEmitterEdgeOccluderVertex:
+        ++stats_.surfacesEmitterEdge;
+        break;
+      case SurfaceKind::kNonEmitterVertexEdge:
+        ++stats_.surfacesNonEmitter;
+        break;
+      case SurfaceKind::kLightEdgeOccluderPlane:
+        ++stats_.surfacesOccluderPlane;
+        break;
     }
   }
   stats_.secondsSurfaces = secondsSince(start);

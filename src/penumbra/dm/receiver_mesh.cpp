@@ -156,7 +156,9 @@ ReceiverMesh::~ReceiverMesh() = default;
 ReceiverMesh::ReceiverMesh(ReceiverMesh&&) noexcept = default;
 ReceiverMesh& ReceiverMesh::operator=(ReceiverMesh&&) noexcept = default;
 
-PolygonId ReceiverMesh::receiver() const { return impl_->receiver; }
+PolygonId ReceiverMesh::receiver() const {
+  return impl_->receiver;
+}
 
 void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments) {
   std::vector<Traits::Curve_2> curves;
@@ -186,9 +188,15 @@ void ReceiverMesh::removeSurface(SurfaceId surface) {
   impl_->indexFaces();
 }
 
-int ReceiverMesh::vertexCount() const { return int(impl_->arrangement.number_of_vertices()); }
-int ReceiverMesh::edgeCount() const { return int(impl_->arrangement.number_of_edges()); }
-const std::vector<MeshFace>& ReceiverMesh::faces() const { return impl_->faces; }
+int ReceiverMesh::vertexCount() const {
+  return int(impl_->arrangement.number_of_vertices());
+}
+int ReceiverMesh::edgeCount() const {
+  return int(impl_->arrangement.number_of_edges());
+}
+const std::vector<MeshFace>& ReceiverMesh::faces() const {
+  return impl_->faces;
+}
 
 std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
   const auto result = impl_->locator.locate(impl_->toPoint(p));

@@ -18,7 +18,7 @@ bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
 // The segment where a plane (normal m through point o) cuts the light polygon: its two extreme
 // crossings (the whole trace for a convex light, its hull otherwise: extra lines only refine).
 std::optional<std::array<Vec3, 2>> lightTrace(const Polygon3& light, const Vec3& lightNormal,
-                                               const Vec3& m, const Vec3& o) {
+                                              const Vec3& m, const Vec3& o) {
   const Vec3 along = cross(m, lightNormal);
   if (squaredLength(along) == 0) return std::nullopt;  // the plane is the light's plane
   std::optional<Vec3> lo, hi;
@@ -123,7 +123,8 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
 std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene& scene,
                                                                 const EdgeAdjacency& adjacency,
                                                                 const UniformGrid& grid,
-                                                                PolygonId light, SurfaceId firstId) {
+                                                                PolygonId light,
+                                                                SurfaceId firstId) {
   std::vector<DiscontinuitySurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;

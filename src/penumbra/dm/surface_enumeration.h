@@ -30,6 +30,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
 // (see SurfaceKind::kLightEdgeOccluderPlane).
 std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
                                                                  const EdgeAdjacency& adjacency,
-                                                                 PolygonId light, SurfaceId firstId);
+                                                                 PolygonId light,
+                                                                 SurfaceId firstId);
 
 }  // namespace penumbra

@@ -34,14 +34,14 @@ std::vector<ReceiverPoint> sampleReceiverPoints(const PosedScene& scene, int cou
   std::uniform_real_distribution<double> uniform(0, 1);
   points.reserve(count);
   for (int i = 0; i < count; ++i) {
-    const size_t k = std::lower_bound(cumulativeArea.begin(), cumulativeArea.end(),
-                                      uniform(rng) * total) -
-                     cumulativeArea.begin();
+    const size_t k =
+        std::lower_bound(cumulativeArea.begin(), cumulativeArea.end(), uniform(rng) * total) -
+        cumulativeArea.begin();
     const Triangle& t = triangles[std::min(k, triangles.size() - 1)];
     // Uniform in the triangle: square-root warp of the first coordinate.
     const double r1 = std::sqrt(uniform(rng)), r2 = uniform(rng);
-    const Vec3 p = t.corners[0] * (1 - r1) + t.corners[1] * (r1 * (1 - r2)) +
-                   t.corners[2] * (r1 * r2);
+    const Vec3 p =
+        t.corners[0] * (1 - r1) + t.corners[1] * (r1 * (1 - r2)) + t.corners[2] * (r1 * r2);
     points.push_back({p, scene.polygons[t.receiver].plane.normal, t.receiver});
   }
   return points;
