@@ -257,6 +257,21 @@ std::vector<Polygon3> ReceiverMesh::faceBoundary(int face) const {
   return cycles;
 }
 
+std::vector<std::pair<Vec3, Vec3>> ReceiverMesh::faceBoundarySegments(int face) const {
+  std::vector<std::pair<Vec3, Vec3>> segments;
+  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
+    const int left = e->face()->data(), right = e->twin()->face()->data();
+    if (left != right && (left == face || right == face))
+      segments.push_back(
+          {impl_->toWorld(e->source()->point()), impl_->toWorld(e->target()->point())});
+  }
+  return segments;
+}
+
+const PlaneFrame& ReceiverMesh::frame() const {
+  return impl_->frame;
+}
+
 size_t ReceiverMesh::memoryBytes() const {
   // DCEL records plus the exact coordinates' lazy representations, estimated per record.
   const auto& a = impl_->arrangement;

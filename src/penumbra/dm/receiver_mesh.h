@@ -52,6 +52,10 @@ class ReceiverMesh {
   // The boundary cycles of a face (outer first, then holes), vertices in order, antennas
   // included (for drawing, triangulation and diagnostics).
   std::vector<Polygon3> faceBoundary(int face) const;
+  // The edges that separate a face from other faces (antennas left out), as 3D segments.
+  std::vector<std::pair<Vec3, Vec3>> faceBoundarySegments(int face) const;
+  // The receiver's plane frame, in which the mesh is built.
+  const PlaneFrame& frame() const;
   size_t memoryBytes() const;
 
  private:

@@ -18,6 +18,9 @@ namespace {
 constexpr double kCoplanarRelativeTolerance = 1e-12;
 // Relative enlargement of the clipping cone beyond the light's hull.
 constexpr double kConeMargin = 0.01;
+// Farthest a projected occluder vertex may lie from the light frame's origin, in units of the lit
+// light's extent (inside the cone it is at most 1 + kConeMargin); within Clipper's range.
+constexpr double kProjectionReach = 2;
 // Integer coordinates: the light's extent maps to 2^60, below Clipper's 2^62 "hi range".
 constexpr double kClipperExtent = 1152921504606846976.0;  // 2^60
 
@@ -162,7 +165,14 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
       const double drop = pointHeight - lightPlane.signedDistance(x);  // > 0 inside the cone
       inFront = inFront || lightPlane.signedDistance(x) > 0;
       const Vec3 onLight = p + (x - p) * (pointHeight / drop);
-      path.push_back(toInt(frame.toLocal(onLight)));
+      // Inside the cone every projection lies in the enlarged hull; only a piece vertex within
+      // rounding of the apex (an occluder touching p) can land elsewhere, its direction being
+      // noise. Pull such a point back to the hull's reach so that the integer grid holds it.
+      Vec2 local = frame.toLocal(onLight);
+      const double reach = std::max(std::abs(local.x), std::abs(local.y));
+      if (!(reach <= kProjectionReach * extent))
+        local = std::isfinite(reach) ? local * (kProjectionReach * extent / reach) : hullCenter2;
+      path.push_back(toInt(local));
     }
     if (!inFront) return;  // a piece lying in the light plane hides nothing
     // Seen from its back a polygon projects clockwise; the union must not let a front and a back

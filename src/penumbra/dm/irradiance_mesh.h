@@ -1,0 +1,26 @@
+#pragma once
+// The discontinuity mesh as triangles with exact irradiance at their corners, for Gouraud
+// rendering (`render --method dm`) and PLY export (render/ply_writer.h). Every face of every
+// receiver is triangulated without new vertices (face_triangulation.h); corners are evaluated with
+// their own face's backprojection and not shared between faces, so contact (D0) discontinuities
+// stay sharp while the D1/D2 ones are met exactly at the mesh edges.
+
+#include <cstdint>
+#include <vector>
+
+#include "penumbra/base/rgb.h"
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+
+namespace penumbra {
+
+struct IrradianceMesh {
+  std::vector<Vec3> positions;
+  std::vector<Rgb> irradiance;         // direct, W/m² per channel, per position
+  std::vector<PolygonId> receiverOf;   // per position
+  std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from the front
+  std::vector<std::pair<Vec3, Vec3>> edges;  // discontinuity edges (not receiver boundaries)
+};
+
+IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine);
+
+}  // namespace penumbra
