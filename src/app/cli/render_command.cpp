@@ -115,9 +115,13 @@ void renderVolumes(const RenderOptions& options, const CommonOptions& common, co
   ShadowVolumeRenderer renderer;
   ShadowVolumeRenderOptions so;
   so.lightSamples = options.lightSamples;
+  // The picture shows reflections in mirror polygons; the EXR keeps the quantity of DESIGN.md §5,
+  // the direct irradiance of the surface seen (a mirror's own).
+  so.mirrors = true;
   const Image radiance = renderer.render(posed, engine, camera, camera.width, camera.height, so);
   Image irradiance;
   if (!options.exr.empty()) {
+    so.mirrors = false;
     so.output = ShadowVolumeRenderOptions::Output::kIrradiance;
     irradiance = renderer.render(posed, engine, camera, camera.width, camera.height, so);
   }
