@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -122,6 +123,37 @@ TEST(PenumbraViewWindow, RaytraceScreenshotEqualsRender) {
   const std::string s = scene("office-desk/desk-145.json");
   expectSameImage(s + " --method raytrace --size 96x72 --frame 1 --frames 2",
                   s + " --method raytrace --size 96x72 --frame 2");
+}
+
+// The whole window: the image at the top left, unchanged, and the ImGui panel drawn beside it.
+TEST(PenumbraViewWindow, PanelIsDrawnBesideTheImage) {
+  test::TempDir dir;
+  const std::string s = scene("cornell-box/cornell-box.json");
+  const std::string shot = dir.path("window.png"), reference = dir.path("render.png");
+  const RunResult viewer = runViewer(s + " --size 160x120 --capture-window --screenshot " + shot);
+  ASSERT_EQ(viewer.exitCode, 0) << viewer.output;
+  ASSERT_EQ(
+      runPenumbra("render " + s + " --method volumes --size 160x120 -o " + reference).exitCode, 0);
+  const Png window = readPng(shot), image = readPng(reference);
+  // 340-pixel panel; at least 480 rows (viewer_app.cpp).
+  ASSERT_EQ(window.width, 160 + 340);
+  ASSERT_EQ(window.height, 480);
+  int differing = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (window.rgb[(std::size_t(y) * window.width + x) * 3 + c] !=
+            image.rgb[(std::size_t(y) * 160 + x) * 3 + c])
+          ++differing;
+  EXPECT_EQ(differing, 0);
+  // The panel has text and widgets: many distinct colours, unlike an empty clear colour.
+  std::set<int> colours;
+  for (int y = 0; y < window.height; ++y)
+    for (int x = 160; x < window.width; ++x) {
+      const unsigned char* p = &window.rgb[(std::size_t(y) * window.width + x) * 3];
+      colours.insert(p[0] << 16 | p[1] << 8 | p[2]);
+    }
+  EXPECT_GT(colours.size(), 20u);
 }
 
 }  // namespace

@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
   app.add_option("--frames", options.frames,
                  "With --screenshot: frames to draw, one motion frame each from --frame")
       ->check(CLI::Range(1, 1000000));
+  app.add_flag("--capture-window", options.captureWindow,
+               "Screenshots show the whole window (image and panel), not just the image");
   try {
     app.parse(argc, argv);
     if (!size.empty() && !parseSize(size, options.width, options.height))

@@ -154,7 +154,8 @@ int runViewer(const ViewerOptions& options) {
   auto takeScreenshot = [&](const std::string& path) {
     int fbWidth = 0, fbHeight = 0;
     context->framebufferSize(fbWidth, fbHeight);
-    const int w = std::min(display.width(), fbWidth), h = std::min(display.height(), fbHeight);
+    const int w = options.captureWindow ? fbWidth : std::min(display.width(), fbWidth);
+    const int h = options.captureWindow ? fbHeight : std::min(display.height(), fbHeight);
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
     writePngRgb8(ImageDisplay::readBack(w, h, fbHeight), w, h, path);

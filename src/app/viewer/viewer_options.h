@@ -19,6 +19,7 @@ struct ViewerOptions {
   // `frame` (wrapping at the end), write the window's image of the last one to this PNG, exit.
   std::string screenshot;
   int frames = 1;
+  bool captureWindow = false;  // screenshot the whole window, panel included, not just the image
 };
 
 }  // namespace penumbra::viewer
