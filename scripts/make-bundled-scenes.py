@@ -140,9 +140,9 @@ class Scene:
         self.camera = None
         self.frames = None
 
-    def material(self, name, reflectance, emission=None):
+    def material(self, name, reflectance, emission=None, mirror=False):
         assert all(0 <= r < 1 for r in reflectance)
-        self.materials[name] = (reflectance, emission)
+        self.materials[name] = (reflectance, emission, mirror)
 
     def add(self, name, material, solids, motion=None, transform=None):
         """solids: a list of solids (each a list of polygons) in object coordinates.
@@ -175,10 +175,12 @@ class Scene:
             lines.append('  "frames": %d,' % self.frames)
         lines.append('  "materials": {')
         mats = []
-        for name, (refl, emis) in self.materials.items():
+        for name, (refl, emis, mirror) in self.materials.items():
             text = '    "%s": { "reflectance": %s' % (name, vec(refl))
             if emis is not None:
                 text += ', "emission": %s' % vec(emis)
+            if mirror:
+                text += ', "mirror": true'
             mats.append(text + " }")
         lines.append(",\n".join(mats))
         lines.append("  },")
@@ -663,18 +665,24 @@ def furnished_room():
     return s
 
 
-def cornell_box():
+def cornell_box(mirror=False):
     """The Cornell Box (Cornell University Program of Computer Graphics, published data), made
     an ideal 556 x 548.8 x 559.2 mm box (the measured walls are slightly skew), with the blocks
     as published (closed with bottom faces) and the short block sliding 6 cm toward the green
     wall over 4 frames. The real box is open toward the camera into a dark lab; to keep the room
     closed the opening continues as a black (reflectance 0) tunnel past the camera, which reflects
-    nothing, exactly like the dark lab."""
-    s = Scene("cornell-box")
+    nothing, exactly like the dark lab.
+
+    With mirror=True the green wall is a planar mirror of reflectance 0.9 (the shadow-volume
+    renderer draws the reflected room in it; the other engines see a diffuse grey wall)."""
+    s = Scene("cornell-mirror" if mirror else "cornell-box")
     mm = 0.001
     s.material("white", [0.75, 0.75, 0.75])
     s.material("red", [0.63, 0.065, 0.05])
-    s.material("green", [0.14, 0.45, 0.09])
+    if mirror:
+        s.material("mirror", [0.9, 0.9, 0.9], mirror=True)
+    else:
+        s.material("green", [0.14, 0.45, 0.09])
     s.material("black", [0, 0, 0])
     # (17, 12, 4) is the usual radiance of the Cornell light; exitance of a Lambertian emitter is
     # pi times its radiance.
@@ -685,7 +693,10 @@ def cornell_box():
     tunnel = room_faces(0, 0, front, X, Y, 0)
     s.add("room-white", "white", [[box_faces["floor"], box_faces["ceiling"], box_faces["z1"]]])
     s.add("room-red", "red", [[box_faces["x1"]]])
-    s.add("room-green", "green", [[box_faces["x0"]]])
+    if mirror:
+        s.add("room-mirror", "mirror", [[box_faces["x0"]]])
+    else:
+        s.add("room-green", "green", [[box_faces["x0"]]])
     s.add("room-black", "black", [[tunnel["floor"], tunnel["ceiling"], tunnel["x0"], tunnel["x1"],
                                    tunnel["z0"]]])
     light = [(343.0, 227.0), (343.0, 332.0), (213.0, 332.0), (213.0, 227.0)]
@@ -712,6 +723,7 @@ def main():
     check_only = "--check" in sys.argv[1:]
     scenes = [
         ("cornell-box/cornell-box.json", cornell_box(), 23, False),
+        ("cornell-box/cornell-mirror.json", cornell_box(mirror=True), 23, False),
         ("office-desk/desk-145.json", desk_scene(145), 145, True),
         ("office-desk/desk-307.json", desk_scene(307), 307, True),
         ("office-desk/desk-475.json", desk_scene(475), 475, True),

@@ -57,6 +57,7 @@ TEST_P(BundledSceneTest, MeetsTheSceneRules) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, BundledSceneTest,
                          ::testing::Values(Bundled{"cornell-box/cornell-box.json", 23, 0, 4},
+                                           Bundled{"cornell-box/cornell-mirror.json", 23, 0, 4},
                                            Bundled{"office-desk/desk-145.json", 145, 0, 4},
                                            Bundled{"office-desk/desk-307.json", 307, 0, 4},
                                            Bundled{"office-desk/desk-475.json", 475, 0, 4},

@@ -271,7 +271,7 @@ JsonScene parseScene(const json& j) {
   if (j.at("penumbra").get<int>() != 1) throw std::runtime_error("scene: \"penumbra\" must be 1");
   std::map<std::string, bool> emitting;
   for (const auto& [name, m] : j.at("materials").items()) {
-    requireKeys(m, {"reflectance", "emission"}, "materials." + name);
+    requireKeys(m, {"reflectance", "emission", "mirror"}, "materials." + name);
     const Vec3 r = toVec3(m.at("reflectance"), "materials." + name + ".reflectance");
     if (std::max({r.x, r.y, r.z}) >= 1 || std::min({r.x, r.y, r.z}) < 0)
       throw std::runtime_error("materials." + name + ": reflectance outside [0, 1)");

@@ -3,9 +3,9 @@
 //
 // Headless rendering (tests, CLI, CI with no display and no GPU) goes through EGL on Mesa's
 // surfaceless platform: there is no default framebuffer, so all drawing goes into a Framebuffer.
-// A window-system context (GLFW, for the viewer) is added by deriving from GlContext in the viewer,
-// which keeps GLFW out of this library: the subclass makes its context current and calls
-// loadGlFunctions() with glfwGetProcAddress.
+// A window-system context for the viewer is GlfwContext (glfw_context.h), in the separate
+// penumbra_render_glfw library so that this one never needs a window system: it makes its
+// context current and calls loadGlFunctions() with glfwGetProcAddress.
 //
 // A context is current on one thread at a time; GL calls made by this library's classes require
 // that the context that created their objects is current on the calling thread.

@@ -15,9 +15,16 @@ void writePng(const Image& image, const ToneMapping& toneMapping,
   if (image.width <= 0 || image.height <= 0) {
     throw std::runtime_error("cannot write PNG '" + path.string() + "': the image is empty");
   }
-  const std::vector<std::uint8_t> bytes = toSrgb8(image, toneMapping);
-  const int stride = image.width * 3;
-  if (stbi_write_png(path.c_str(), image.width, image.height, 3, bytes.data(), stride) == 0) {
+  writePngRgb8(toSrgb8(image, toneMapping), image.width, image.height, path);
+}
+
+void writePngRgb8(const std::vector<std::uint8_t>& rgb, int width, int height,
+                  const std::filesystem::path& path) {
+  if (width <= 0 || height <= 0 || rgb.size() != std::size_t(width) * std::size_t(height) * 3) {
+    throw std::runtime_error("cannot write PNG '" + path.string() +
+                             "': empty image or pixel data of the wrong size");
+  }
+  if (stbi_write_png(path.c_str(), width, height, 3, rgb.data(), width * 3) == 0) {
     throw std::runtime_error("cannot write PNG '" + path.string() + "'");
   }
 }
