@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -212,6 +213,45 @@ TEST(Cli, RenderVolumesWritesAPng) {
   EXPECT_EQ(signature[3], 'G');
   EXPECT_EQ(
       runPenumbra("render " + scene + " --method volumes --light-samples 0 -o " + out).exitCode, 1);
+}
+
+TEST(Cli, ShadowsFullWritesAReportAndAMeshPerFrame) {
+  test::TempDir dir;
+  const std::string scene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/office-desk/desk-145.json";
+  const std::string report = dir.path("report.json");
+  const std::string meshes = dir.path("meshes");
+  const RunResult r = runPenumbra("shadows " + scene + " --frames 1:2 --mode full --report " +
+                                  report + " --out " + meshes);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(report);
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const char* key :
+       {"\"frames\"", "\"frame\": 1", "\"frame\": 2", "\"seconds\"", "\"peak_memory_bytes\"",
+        "\"ev_non_emitter\"", "\"faces\"", "\"stored_intersections\"", "\"receivers\""})
+    EXPECT_NE(text.str().find(key), std::string::npos) << key;
+  for (const char* ply : {"/frame-1.ply", "/frame-2.ply"}) {
+    std::ifstream mesh(meshes + ply);
+    std::string magic;
+    std::getline(mesh, magic);
+    EXPECT_EQ(magic, "ply") << ply;
+  }
+  EXPECT_EQ(runPenumbra("shadows " + scene + " --mode incremental").exitCode, 1);
+  EXPECT_EQ(runPenumbra("shadows " + scene + " --frames 2:9").exitCode, 1);
+}
+
+TEST(Cli, RenderDmWritesAPng) {
+  test::TempDir dir;
+  const std::string scene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/office-desk/desk-145.json";
+  const std::string out = dir.path("dm.png");
+  const RunResult r =
+      runPenumbra("render " + scene + " --method dm --edges --size 64x48 -o " + out);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream png(out, std::ios::binary);
+  char signature[4] = {};
+  png.read(signature, 4);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  EXPECT_EQ(runPenumbra("render " + scene + " --method raytrace --edges -o " + out).exitCode, 1);
 }
 
 }  // namespace

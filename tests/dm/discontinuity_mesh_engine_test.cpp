@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
+#include "penumbra/dm/irradiance_mesh.h"
 #include "penumbra/geometry/quaternion.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/scene/receiver_sampling.h"
@@ -97,6 +99,62 @@ TEST(DiscontinuityMeshEngine, TwoBoxesWithSeparateShadowsAreExact) {
   test::addBox(b, "white", "near", {0.4, 0.5, 0.9}, {0.9, 1.0, 1.3});
   test::addBox(b, "white", "far", {3.0, 2.9, 0.9}, {3.5, 3.4, 1.5});
   expectExact(b.pose(), 1500, 5);
+}
+
+// The triangulated mesh: triangles tile every receiver, and every corner carries the exact
+// irradiance (its face's backprojection evaluated there equals the reference at that point).
+TEST(DiscontinuityMeshEngine, IrradianceMeshTilesReceiversWithExactCorners) {
+  test::SceneBuilder b = litRoom();
+  test::addBox(b, "white", "box", {1.6, 1.7, 1.2}, {2.3, 2.2, 1.6});
+  const PosedScene scene = b.pose();
+  DiscontinuityMeshEngine engine;
+  engine.build(PosedScene(scene));
+  const IrradianceMesh mesh = buildIrradianceMesh(engine, 0.5);
+  std::map<PolygonId, double> area;
+  double minimumArea = 0;
+  for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+    const Vec3& a = mesh.positions[mesh.indices[t]];
+    const Vec3& c1 = mesh.positions[mesh.indices[t + 1]];
+    const Vec3& c2 = mesh.positions[mesh.indices[t + 2]];
+    const PolygonId receiver = mesh.receiverOf[mesh.indices[t]];
+    // Counter-clockwise seen from the receiver's front.
+    const double signedArea =
+        0.5 * dot(cross(c1 - a, c2 - a), scene.polygons[receiver].plane.normal);
+    // Slivers between events a rounding apart give triangles of area ~1e-20: none may be
+    // inverted beyond that.
+    EXPECT_GT(signedArea, -1e-15);
+    minimumArea = std::min(minimumArea, signedArea);
+    area[receiver] += signedArea;
+  }
+  for (const WorldPolygon& polygon : scene.polygons) {
+    if (polygon.isLight) continue;
+    EXPECT_NEAR(area[polygon.id], penumbra::area(polygon.vertices), 1e-9) << polygon.id;
+  }
+  const UniformGrid grid(scene);
+  const ExactReference reference(scene, &grid);
+  // Faces between events a rounding apart (slivers of area ~1e-20) hold labels of a degenerate
+  // configuration; they cover no point a probe or a pixel can hit, so only corners of triangles
+  // with some area are checked.
+  int checked = 0;
+  for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+    const Vec3& a = mesh.positions[mesh.indices[t]];
+    const double twiceArea = length(
+        cross(mesh.positions[mesh.indices[t + 1]] - a, mesh.positions[mesh.indices[t + 2]] - a));
+    if (twiceArea < 1e-12 || t % 5 != 0) continue;
+    for (int k = 0; k < 3; ++k, ++checked) {
+      const size_t i = mesh.indices[t + k];
+      const PolygonId receiver = mesh.receiverOf[i];
+      const Rgb expected =
+          reference.irradiance(mesh.positions[i], scene.polygons[receiver].plane.normal, receiver);
+      EXPECT_NEAR(mesh.irradiance[i].r, expected.r, 1e-9 * std::max(expected.r, 1e-2))
+          << "corner " << k << " of triangle " << t / 3 << " (twice area " << twiceArea << ") at "
+          << mesh.positions[i].x << " " << mesh.positions[i].y << " " << mesh.positions[i].z
+          << " receiver " << receiver;
+    }
+  }
+  EXPECT_GT(checked, 500);
+  std::printf("smallest triangle area %g\n", minimumArea);
+  EXPECT_FALSE(mesh.edges.empty());
 }
 
 }  // namespace

@@ -52,6 +52,7 @@ struct RenderOptions {
   double exposure = 0;      // 0: automatic
   std::string exr;          // optional raw irradiance output
   double tolerance = 1e-3;  // radiosity: refinement tolerance
+  bool edges = false;       // dm: draw the discontinuity edges over the image
 };
 int runRender(const RenderOptions& options, const CommonOptions& common);
 
@@ -63,6 +64,15 @@ struct RadiosityCommandOptions {
   std::string report;
 };
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common);
+
+struct ShadowsOptions {
+  std::string scene;
+  std::string frames;  // A:B, empty: all frames
+  std::string mode = "full";
+  std::string report;
+  std::string outDirectory;  // a PLY of the irradiance mesh per frame
+};
+int runShadows(const ShadowsOptions& options, const CommonOptions& common);
 
 struct GenerateOptions {
   int polygons = 1000;

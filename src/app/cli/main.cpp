@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--exposure", render.exposure, "Exposure (default: automatic)")
       ->check(CLI::NonNegativeNumber);
   renderCommand->add_option("--exr", render.exr, "Also write the raw irradiance as OpenEXR");
+  renderCommand->add_flag("--edges", render.edges, "dm: draw the discontinuity edges over it");
 
   probeCommand->add_option("--tolerance", probe.tolerance, "Radiosity: refinement tolerance")
       ->check(CLI::PositiveNumber);
@@ -74,6 +75,16 @@ int main(int argc, char** argv) {
   radiosityCommand->add_option("--tolerance", radiosity.tolerance, "Refinement tolerance")
       ->check(CLI::PositiveNumber);
   radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
+
+  ShadowsOptions shadows;
+  CLI::App* shadowsCommand = app.add_subcommand(
+      "shadows", "Exact soft shadows (discontinuity meshing) over frames, with a JSON report");
+  shadowsCommand->add_option("scene", shadows.scene, "Scene file")->required();
+  shadowsCommand->add_option("--frames", shadows.frames, "Frames A:B (default: all)");
+  shadowsCommand->add_option("--mode", shadows.mode, "full (incremental, verify: later)");
+  shadowsCommand->add_option("--report", shadows.report, "Write statistics as JSON");
+  shadowsCommand->add_option("--out", shadows.outDirectory,
+                             "Write the irradiance mesh of each frame as PLY into this folder");
 
   GenerateOptions generate;
   CLI::App* generateCommand = app.add_subcommand(
@@ -98,6 +109,7 @@ int main(int argc, char** argv) {
     if (*renderCommand) return runRender(render, common);
     if (*generateCommand) return runGenerate(generate, common);
     if (*radiosityCommand) return runRadiosity(radiosity, common);
+    if (*shadowsCommand) return runShadows(shadows, common);
   } catch (const penumbra::InputError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.what());
     return kBadInput;

@@ -5,6 +5,9 @@
 #include <numbers>
 
 #include "commands.h"
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+#include "penumbra/dm/irradiance_mesh.h"
+#include "penumbra/geometry/triangulation.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/render/exr_io.h"
@@ -94,6 +97,54 @@ void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
               "");
 }
 
+// The exact soft shadows: the discontinuity mesh's faces triangulated, each corner's irradiance
+// from its face's backprojection, drawn with Gouraud shading (radiance ρE/π on receivers, M/π
+// on lights); --edges draws the discontinuity edges over it.
+void renderDm(const RenderOptions& options, const CommonOptions& common, const PosedScene& posed,
+              const Camera& camera) {
+  DiscontinuityMeshEngine engine;
+  engine.build(PosedScene(posed));
+  // Corners about 1/100 of the scene apart resolve the smooth falloff inside large faces.
+  const IrradianceMesh solution = buildIrradianceMesh(engine, posed.bounds.diagonalLength() / 100);
+  ColoredMesh mesh;
+  mesh.positions = solution.positions;
+  mesh.indices = solution.indices;
+  mesh.colors.reserve(solution.positions.size());
+  for (size_t i = 0; i < solution.positions.size(); ++i) {
+    const Material& material = posed.materialOf(posed.polygons[solution.receiverOf[i]]);
+    mesh.colors.push_back(material.reflectance * solution.irradiance[i] / std::numbers::pi);
+  }
+  for (const WorldPolygon& polygon : posed.polygons) {
+    if (!polygon.isLight) continue;
+    const Rgb radiance = posed.materialOf(polygon).emission / std::numbers::pi;
+    const auto first = std::uint32_t(mesh.positions.size());
+    for (const Vec3& v : polygon.vertices) {
+      mesh.positions.push_back(v);
+      mesh.colors.push_back(radiance);
+    }
+    for (const auto& t : triangulate(polygon.vertices))
+      for (int k : t) mesh.indices.push_back(first + std::uint32_t(k));
+  }
+  std::vector<LineSet> overlays;
+  if (options.edges) {
+    LineSet lines;
+    lines.color = {0.9, 0.1, 0.05};
+    for (const auto& [a, b] : solution.edges) {
+      lines.endpoints.push_back(a);
+      lines.endpoints.push_back(b);
+    }
+    overlays.push_back(std::move(lines));
+  }
+  const auto context = GlContext::createHeadless();
+  MeshRenderer renderer;
+  const DmStats& s = engine.stats();
+  writeImages(options, common, renderer.render(mesh, overlays, camera, camera.width, camera.height),
+              nullptr,
+              "; mesh: " + std::to_string(s.meshVertices) + " vertices, " +
+                  std::to_string(s.meshFaces) + " faces, " +
+                  std::to_string(solution.indices.size() / 3) + " triangles");
+}
+
 // Shadow volumes: built at frame 0 and updated incrementally to the requested frame.
 void renderVolumes(const RenderOptions& options, const CommonOptions& common, const Scene& scene,
                    const PosedScene& posed, const Camera& camera) {
@@ -126,9 +177,12 @@ void renderVolumes(const RenderOptions& options, const CommonOptions& common, co
 }  // namespace
 
 int runRender(const RenderOptions& options, const CommonOptions& common) {
-  if (options.method != "raytrace" && options.method != "radiosity" && options.method != "volumes")
+  if (options.method != "raytrace" && options.method != "radiosity" &&
+      options.method != "volumes" && options.method != "dm")
     throw UsageError("--method " + options.method +
-                     " is not available in this build (available: raytrace, radiosity, volumes)");
+                     " is not available in this build (available: raytrace, dm, radiosity, "
+                     "volumes)");
+  if (options.edges && options.method != "dm") throw UsageError("--edges needs --method dm");
   const Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
     throw UsageError("--frame " + std::to_string(options.frame) +
@@ -138,6 +192,8 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   if (!options.size.empty()) parseSize(options.size, camera);
   if (options.method == "volumes")
     renderVolumes(options, common, scene, posed, camera);
+  else if (options.method == "dm")
+    renderDm(options, common, posed, camera);
   else if (options.method == "radiosity")
     renderRadiosity(options, common, posed, camera);
   else

@@ -1,5 +1,7 @@
 #include "penumbra/dm/discontinuity_surface.h"
 
+#include <algorithm>
+
 namespace penumbra {
 
 Vec3 CriticalFan::normal() const {
@@ -29,14 +31,22 @@ double CriticalFan::depthParameter(const Vec3& x, double u) const {
 }
 
 double CriticalFan::hingeDepth(double u) const {
-  if (!hasSecondContact) return 1;
-  // L(u) = S + s (H − S) meets the contact line C0 + t (C1 − C0) in the fan's plane.
+  double depth = 1;
+  if (contacts.empty()) return depth;
+  // L(u) = S + s (H − S) meets the contact C0 + t (C1 − C0) in the fan's plane.
   const Vec3 n = normal();
-  const Vec3 s0 = source(u), d = hinge(u) - s0, e = contact1 - contact0;
-  const double denominator = dot(n, cross(d, e));
-  if (denominator == 0) return 1;
-  const double s = dot(n, cross(contact0 - s0, e)) / denominator;
-  return s > 1 ? s : 1;
+  const Vec3 s0 = source(u), d = hinge(u) - s0;
+  for (const auto& [c0, c1] : contacts) {
+    const Vec3 e = c1 - c0;
+    const double denominator = dot(n, cross(d, e));
+    if (denominator == 0) continue;
+    const double s = dot(n, cross(c0 - s0, e)) / denominator;
+    const double t = dot(n, cross(c0 - s0, d)) / denominator;
+    // A contact the line misses by rounding at its ends still counts: the relative slack only
+    // lengthens the stretch where nothing may block.
+    if (t >= -1e-9 && t <= 1 + 1e-9) depth = std::max(depth, s);
+  }
+  return depth;
 }
 
 }  // namespace penumbra

@@ -37,9 +37,10 @@ enum class SurfaceKind {
 struct CriticalFan {
   Vec3 source0, source1;  // S(0), S(1): equal when the source is a light vertex
   Vec3 hinge0, hinge1;    // H(0), H(1): equal when the hinge is an occluder vertex
-  // Non-emitter EV: the occluder edge every critical line also meets (else unused).
-  bool hasSecondContact = false;
-  Vec3 contact0{}, contact1{};
+  // Segments in the fan's plane that critical lines may also meet beyond the hinge; the event
+  // begins past the farthest of them (non-emitter EV: the second edge; occluder plane: the
+  // polygon's edges, the polygon being edge-on in the fan). Empty for the emitter EV fans.
+  std::vector<std::pair<Vec3, Vec3>> contacts;
 
   Vec3 source(double u) const { return source0 + (source1 - source0) * u; }
   Vec3 hinge(double u) const { return hinge0 + (hinge1 - hinge0) * u; }
@@ -52,8 +53,8 @@ struct CriticalFan {
   // The u of the critical line through x (x in the fan's plane), and x's s along it.
   double criticalParameter(const Vec3& x) const;
   double depthParameter(const Vec3& x, double u) const;
-  // Where along L(u) the event starts: 1 (the hinge), or beyond it where the second contact lies
-  // farther from the light.
+  // Where along L(u) the event starts: 1 (the hinge), or beyond it where a contact lies farther
+  // from the light.
   double hingeDepth(double u) const;
 };
 

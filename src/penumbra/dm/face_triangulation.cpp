@@ -64,6 +64,7 @@ std::vector<std::array<Vec3, 3>> triangulateFace(const std::vector<std::pair<Vec
     if (p.x == q.x && p.y == q.y) continue;
     cdt.insert_constraint(Kernel::Point_2(p.x, p.y), Kernel::Point_2(q.x, q.y));
   }
+  if (cdt.dimension() < 2) return {};  // a degenerate face (all its edges collinear) has no area
   markDepths(cdt);
   std::vector<std::array<Vec3, 3>> triangles;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {

@@ -21,6 +21,8 @@ struct IrradianceMesh {
   std::vector<std::pair<Vec3, Vec3>> edges;  // discontinuity edges (not receiver boundaries)
 };
 
-IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine);
+// Irradiance varies smoothly but not linearly inside a face, so triangles longer than
+// `maxEdgeLength` (0: no limit) are split regularly, every new corner evaluated exactly too.
+IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine, double maxEdgeLength = 0);
 
 }  // namespace penumbra

@@ -95,7 +95,7 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
       s.lightFeature = int(i);
       s.occluderFeature = edgeId;
       s.hingePolygons = edge.polygons;
-      s.fan = {lv[i], lv[i], a, b};
+      s.fan = {lv[i], lv[i], a, b, {}};
       surfaces.push_back(std::move(s));
     }
   }
@@ -113,7 +113,7 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
       s.lightFeature = int(i);
       s.occluderFeature = VertexId(v);
       s.hingePolygons = vertex.polygons;
-      s.fan = {lv[i], lv[(i + 1) % lv.size()], vertex.position, vertex.position};
+      s.fan = {lv[i], lv[(i + 1) % lv.size()], vertex.position, vertex.position, {}};
       surfaces.push_back(std::move(s));
     }
   }
@@ -175,10 +175,8 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
           s.secondFeature = edgeId;
           s.hingePolygons = vertex.polygons;
           s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
-          s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v};
-          s.fan.hasSecondContact = true;
-          s.fan.contact0 = a;
-          s.fan.contact1 = b;
+          s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v, {}};
+          s.fan.contacts = {{a, b}};
           surfaces.push_back(std::move(s));
         }
       }
@@ -207,6 +205,17 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
       below = below || sides.back() == Sign::kNegative;
     }
     if (!above || !below) continue;
+    // Edge-on in these fans: q and its neighbours along its edges only touch them, and the
+    // event starts beyond q's far side.
+    std::vector<PolygonId> touching{q.id};
+    std::vector<std::pair<Vec3, Vec3>> outline;
+    for (size_t k = 0; k < corners.size(); ++k) {
+      outline.push_back({q.vertices[k], q.vertices[(k + 1) % q.vertices.size()]});
+      const EdgeId e = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+      if (e >= 0)
+        touching.insert(touching.end(), adjacency.edges()[e].polygons.begin(),
+                        adjacency.edges()[e].polygons.end());
+    }
     for (size_t i = 0; i < lv.size(); ++i) {
       const size_t j = (i + 1) % lv.size();
       if (sides[i] == sides[j] || sides[i] == Sign::kZero || sides[j] == Sign::kZero) continue;
@@ -230,9 +239,9 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
         s.lightFeature = int(i);
         s.occluderFeature = edgeId;
         s.secondFeature = q.id;
-        s.hingePolygons = edge.polygons;
-        s.hingePolygons.push_back(q.id);
-        s.fan = {t, t, a, b};
+        s.hingePolygons = touching;
+        s.fan = {t, t, a, b, {}};
+        s.fan.contacts = outline;
         surfaces.push_back(std::move(s));
       }
     }
