@@ -1,7 +1,9 @@
 #include "penumbra/dm/backprojection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 
 #include "penumbra/lighting/form_factor.h"
 
@@ -76,16 +78,14 @@ Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, 
   bool clippedByHorizon = false;
   for (const Vec3& v : lv) clippedByHorizon = clippedByHorizon || dot(n, v - p) < 0;
 
-  // Candidate occluder features: edges (deduplicated: a shared edge is one line) and vertices of
-  // the polygons near the shaft from p to the light.
-  Box3 shaft = light.bounds;
-  shaft.extend(p);
+  // Candidate occluder features: the edges (a shared edge is one line, listed once) and vertices
+  // of the polygons that entered the visible region's boolean operation.
   std::vector<Segment> edges;
   std::vector<std::pair<Vec3, FeatureRef>> projectedVertices;
-  for (PolygonId id : grid_.polygonsInBox(shaft)) {
+  std::set<std::pair<std::array<double, 3>, std::array<double, 3>>> seenEdges;
+  const auto key = [](const Vec3& v) { return std::array<double, 3>{v.x, v.y, v.z}; };
+  for (PolygonId id : visible.occluders) {
     const WorldPolygon& q = scene_.polygons[id];
-    if (id == lightId || id == receiver || std::abs(q.plane.signedDistance(p)) <= coplanar)
-      continue;
     const size_t k = q.vertices.size();
     for (size_t c = 0; c < k; ++c) {
       const Vec3& a = q.vertices[c];
@@ -93,11 +93,8 @@ Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, 
       // An edge in the horizon plane projects onto the horizon line: the horizon labels it.
       const bool inHorizon =
           std::abs(dot(n, a - p)) <= coplanar && std::abs(dot(n, b - p)) <= coplanar;
-      const bool duplicate =
-          inHorizon || std::any_of(edges.begin(), edges.end(), [&](const Segment& s) {
-            return (s.a == a && s.b == b) || (s.a == b && s.b == a);
-          });
-      if (!duplicate) edges.push_back({a, b, {id, int(c)}});
+      const auto ends = key(a) < key(b) ? std::pair{key(a), key(b)} : std::pair{key(b), key(a)};
+      if (!inHorizon && seenEdges.insert(ends).second) edges.push_back({a, b, {id, int(c)}});
       const double drop = pointHeight - light.plane.signedDistance(a);
       if (drop > 0 && light.plane.signedDistance(a) > 0)
         projectedVertices.push_back({p + (a - p) * (pointHeight / drop), {id, int(c)}});

@@ -3,7 +3,7 @@
 #include <CGAL/Arr_consolidated_curve_data_traits_2.h>
 #include <CGAL/Arr_extended_dcel.h>
 #include <CGAL/Arr_segment_traits_2.h>
-#include <CGAL/Arr_walk_along_line_point_location.h>
+#include <CGAL/Arr_landmarks_point_location.h>
 #include <CGAL/Arrangement_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 
@@ -22,7 +22,8 @@ using Dcel = CGAL::Arr_face_extended_dcel<Traits, int>;
 using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 using Point = Kernel::Point_2;
 using FT = Kernel::FT;
-using PointLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
+// Landmarks: fast queries on large meshes; it observes the arrangement, so edits keep it valid.
+using PointLocation = CGAL::Arr_landmarks_point_location<Arrangement>;
 
 }  // namespace
 

@@ -179,6 +179,7 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
     // face of one solid cancel under the non-zero rule, so every occluder is made positive.
     if (!ClipperLib::Orientation(path)) ClipperLib::ReversePath(path);
     occluders.push_back(std::move(path));
+    result.occluders.push_back(q.id);
   });
 
   if (occluders.empty()) {

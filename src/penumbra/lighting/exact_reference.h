@@ -23,6 +23,9 @@ class UniformGrid;
 struct VisibleLight {
   PolygonId light = 0;
   std::vector<Polygon3> rings;
+  // The polygons whose projection entered the boolean operation (inside the cone from the point
+  // to the lit light), in visiting order: the only ones whose features can bound the rings.
+  std::vector<PolygonId> occluders;
 };
 
 class ExactReference {
