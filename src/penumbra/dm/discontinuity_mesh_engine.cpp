@@ -1,5 +1,6 @@
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -81,8 +82,8 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
     surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,
                                              SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
-    surfaces =
-        enumerateOccluderPlaneSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
+    surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light,
+                                              SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
   }
   for (const DiscontinuitySurface& s : surfaces_) {
@@ -98,6 +99,9 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
         break;
       case SurfaceKind::kLightEdgeOccluderPlane:
         ++stats_.surfacesOccluderPlane;
+        break;
+      case SurfaceKind::kOccluderPlaneOccluderEdge:
+        ++stats_.surfacesOccluderPlaneEdge;
         break;
     }
   }
@@ -122,9 +126,29 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   stats_.secondsVisibility = secondsSince(start);
 
   start = Clock::now();
+  eeeSurfaces_.clear();
+  const double chord = kEeeChordTolerance * scene.bounds.diagonalLength();
+  std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
+  for (PolygonId light : scene.lights) {
+    const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
+    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, *grid_, light, firstId))
+      eeeSurfaces_.push_back(std::move(s));
+  }
+  for (EeeSurface& s : eeeSurfaces_) {
+    for (DiscontinuitySegment& segment : traceEeeSurface(s, scene, *adjacency_, *grid_, chord)) {
+      ++stats_.eeeSegments;
+      eeeOnReceiver[segment.receiver].push_back({segment.p0, segment.p1});
+      perReceiver[segment.receiver].push_back(std::move(segment));
+    }
+    stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
+  }
+  stats_.surfacesEee = int(eeeSurfaces_.size());
+  stats_.secondsEee = secondsSince(start);
+
+  start = Clock::now();
   for (const WorldPolygon& receiver : scene.polygons) {
     if (receiver.isLight) continue;
-    ReceiverData data{ReceiverMesh(receiver), {}};
+    ReceiverData data{ReceiverMesh(receiver), {}, std::move(eeeOnReceiver[receiver.id])};
     std::vector<DiscontinuitySegment> segments;
     for (const DiscontinuitySegment& segment : perReceiver[receiver.id])
       segments.push_back(extended(segment, kSegmentExtension * scene.bounds.diagonalLength()));
@@ -181,6 +205,19 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
   const Vec3 onPlane = receiver.plane.project(p);
   const auto face = it->second.mesh.locate(onPlane);
   if (!face) return std::nullopt;
+  // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
+  // the backprojection is computed at the point itself there.
+  const double near = 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
+  for (const auto& [a, b] : it->second.eeeSegments) {
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(dot(onPlane - a, ab) / len2, 0.0, 1.0) : 0.0;
+    if (distance(onPlane, a + ab * t) > near) continue;
+    std::vector<Backprojection> here;
+    for (PolygonId light : posed_->lights)
+      here.push_back(backprojections_->compute(light, p, n, match->polygon));
+    return backprojections_->irradiance(here, p, n, match->polygon);
+  }
   return backprojections_->irradiance(it->second.faces[*face].perLight, p, n, match->polygon);
 }
 

@@ -6,9 +6,10 @@
 // backprojection per light, which gives the exact visible light, hence exact irradiance, at any
 // point of the face.
 //
-// Status: EV surfaces with a feature on the light are built (complete for isolated convex
-// occluders); non-emitter EV and EEE surfaces are not yet, so where shadows of several occluders
-// interact a face may hold more than one backprojection structure. `isExactEverywhere()` says so.
+// Events built: EV with a light vertex or edge, non-emitter EV (occluder vertex × occluder edge),
+// the degenerate EEE of an occluder polygon whose plane cuts the light, and EEE with a light edge
+// and two occluder edges (polylines within kEeeChordTolerance). Not built yet: EEE of three
+// occluder edges (where three occluders' projections meet inside the light).
 
 #include <map>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "penumbra/dm/backprojection.h"
 #include "penumbra/dm/discontinuity_surface.h"
 #include "penumbra/dm/edge_adjacency.h"
+#include "penumbra/dm/eee_surfaces.h"
 #include "penumbra/dm/receiver_mesh.h"
 #include "penumbra/scene/scene.h"
 
@@ -26,10 +28,14 @@ namespace penumbra {
 
 struct DmStats {
   int lights = 0;
-  int surfacesEmitterVertex = 0;  // light vertex × occluder edge
-  int surfacesEmitterEdge = 0;    // light edge × occluder vertex
-  int surfacesNonEmitter = 0;     // occluder vertex × occluder edge
-  int surfacesOccluderPlane = 0;  // light edge × an occluder polygon's plane (degenerate EEE)
+  int surfacesEmitterVertex = 0;      // light vertex × occluder edge
+  int surfacesEmitterEdge = 0;        // light edge × occluder vertex
+  int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
+  int surfacesOccluderPlane = 0;      // light edge × an occluder polygon's plane (degenerate EEE)
+  int surfacesOccluderPlaneEdge = 0;  // occluder edge × an occluder polygon's plane
+  int surfacesEee = 0;                // light edge × two occluder edges (traced as polylines)
+  long long eeeSegments = 0;
+  double secondsEee = 0;
   long long storedIntersections = 0;
   long long visibleSegments = 0;
   long long contactSegments = 0;
@@ -46,6 +52,9 @@ class DiscontinuityMeshEngine {
  public:
   // Discontinuity segments are lengthened by this fraction of the scene's size at both ends.
   static constexpr double kSegmentExtension = 1e-9;
+  // EEE conics are traced as polylines within this fraction of the scene's size; points closer
+  // than twice that to such a polyline get their backprojection computed where they are.
+  static constexpr double kEeeChordTolerance = 1e-7;
 
   DiscontinuityMeshEngine();
   ~DiscontinuityMeshEngine();
@@ -61,6 +70,8 @@ class DiscontinuityMeshEngine {
   const PosedScene& posedScene() const { return *posed_; }
   const ReceiverMesh* meshOf(PolygonId receiver) const;
   const std::vector<DiscontinuitySurface>& surfaces() const { return surfaces_; }
+  const std::vector<EeeSurface>& eeeSurfaces() const { return eeeSurfaces_; }
+  const EdgeAdjacency& adjacency() const { return *adjacency_; }
   // Irradiance at a face sample point of a receiver, for every face (for images and statistics).
   Rgb faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const;
 
@@ -71,6 +82,7 @@ class DiscontinuityMeshEngine {
   struct ReceiverData {
     ReceiverMesh mesh;
     std::vector<FaceData> faces;
+    std::vector<std::pair<Vec3, Vec3>> eeeSegments;  // approximated conics on this receiver
   };
 
   std::unique_ptr<PosedScene> posed_;
@@ -79,6 +91,7 @@ class DiscontinuityMeshEngine {
   std::unique_ptr<EdgeAdjacency> adjacency_;
   std::unique_ptr<BackprojectionBuilder> backprojections_;
   std::vector<DiscontinuitySurface> surfaces_;
+  std::vector<EeeSurface> eeeSurfaces_;
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;
 };

@@ -32,6 +32,10 @@ enum class SurfaceKind {
   // light switches there. The critical lines run from the point T where the plane crosses the light
   // edge through an edge of the polygon: a fan with the fixed source T.
   kLightEdgeOccluderPlane,
+  // Degenerate EEE of the same plane with an occluder edge instead of the light edge: the lines of
+  // the plane through the point X where another occluder's edge crosses it, meeting the light's
+  // trace in the plane and passing through the polygon. A fan with the fixed hinge X.
+  kOccluderPlaneOccluderEdge,
 };
 
 struct CriticalFan {

@@ -187,8 +187,10 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
 
 std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
                                                                  const EdgeAdjacency& adjacency,
+                                                                 const UniformGrid& grid,
                                                                  PolygonId light,
                                                                  SurfaceId firstId) {
+  const double reach = 2 * scene.bounds.diagonalLength();
   std::vector<DiscontinuitySurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
@@ -243,6 +245,75 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
         s.fan = {t, t, a, b, {}};
         s.fan.contacts = outline;
         surfaces.push_back(std::move(s));
+      }
+    }
+    // Another occluder's edge crossing q's plane at X: seen from the plane, the crossing of its
+    // projection with q's (edge-on) switches between q's edges. The lines of the plane through X
+    // that meet the light's trace and pass through q.
+    const Vec3 m = q.plane.normal;
+    const auto trace = lightTrace(lv, lightPlane.normal, m, q.vertices[0]);
+    if (!trace) continue;
+    const auto [t0, t1] = *trace;
+    Box3 region = lightPolygon.bounds;
+    for (const Vec3& x : q.vertices) {
+      region.extend(x);
+      for (const Vec3& c : lv) region.extend(x + normalize(x - c) * reach);
+    }
+    std::vector<char> seen(adjacency.edges().size(), 0);
+    for (PolygonId id : grid.polygonsInBox(region)) {
+      if (id == light || std::count(touching.begin(), touching.end(), id)) continue;
+      const std::vector<VertexId>& others = adjacency.polygonVertices(id);
+      for (size_t k = 0; k < others.size(); ++k) {
+        const EdgeId edgeId = adjacency.edgeBetween(others[k], others[(k + 1) % others.size()]);
+        if (edgeId < 0 || seen[edgeId]) continue;
+        seen[edgeId] = 1;
+        const SceneEdge& edge = adjacency.edges()[edgeId];
+        if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
+        const Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
+        const Sign sa = orientation3d(q.vertices[0], q.vertices[1], q.vertices[2], a);
+        const Sign sb = orientation3d(q.vertices[0], q.vertices[1], q.vertices[2], b);
+        if (sa == sb || sa == Sign::kZero || sb == Sign::kZero) continue;  // no proper crossing
+        const double da = q.plane.signedDistance(a), db = q.plane.signedDistance(b);
+        const Vec3 x = a + (b - a) * (da / (da - db));
+        if (lightPlane.signedDistance(x) <= 0) continue;
+        // The w where the line through S(w) and x has q's vertices on both sides.
+        const auto g = [&](const Vec3& v, double w) {
+          return dot(m, cross(x - (t0 + (t1 - t0) * w), v - x));
+        };
+        std::vector<double> breaks{0, 1};
+        for (const Vec3& v : q.vertices) {
+          const double g0 = g(v, 0), g1 = g(v, 1);
+          if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1)
+            breaks.push_back(g0 / (g0 - g1));
+        }
+        std::sort(breaks.begin(), breaks.end());
+        std::vector<std::array<double, 2>> ranges;
+        for (size_t r = 0; r + 1 < breaks.size(); ++r) {
+          const double w = 0.5 * (breaks[r] + breaks[r + 1]);
+          bool below = false, above = false;
+          for (const Vec3& v : q.vertices) {
+            below = below || g(v, w) < 0;
+            above = above || g(v, w) > 0;
+          }
+          if (!below || !above || breaks[r + 1] <= breaks[r]) continue;
+          if (!ranges.empty() && ranges.back()[1] == breaks[r])
+            ranges.back()[1] = breaks[r + 1];
+          else
+            ranges.push_back({breaks[r], breaks[r + 1]});
+        }
+        for (const auto& [w0, w1] : ranges) {
+          DiscontinuitySurface s;
+          s.id = firstId + SurfaceId(surfaces.size());
+          s.kind = SurfaceKind::kOccluderPlaneOccluderEdge;
+          s.light = light;
+          s.lightFeature = -1;
+          s.occluderFeature = edgeId;
+          s.secondFeature = q.id;
+          s.hingePolygons = touching;
+          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+          s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, outline};
+          surfaces.push_back(std::move(s));
+        }
       }
     }
   }

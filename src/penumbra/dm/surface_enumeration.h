@@ -27,9 +27,12 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
 
 // For every occluder polygon whose plane cuts the light (light vertices strictly on both sides):
 // from each point T where the plane crosses a light edge, one fan through each edge of the polygon
-// (see SurfaceKind::kLightEdgeOccluderPlane).
+// (see SurfaceKind::kLightEdgeOccluderPlane); and for every other occluder edge crossing that
+// plane at X, the lines of the plane through X that meet the light and pass through the polygon
+// (SurfaceKind::kOccluderPlaneOccluderEdge).
 std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
                                                                  const EdgeAdjacency& adjacency,
+                                                                 const UniformGrid& grid,
                                                                  PolygonId light,
                                                                  SurfaceId firstId);
 

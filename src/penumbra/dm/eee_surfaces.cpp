@@ -1,0 +1,252 @@
+#include "penumbra/dm/eee_surfaces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "penumbra/geometry/predicates.h"
+
+namespace penumbra {
+
+namespace {
+
+struct Edge3 {
+  Vec3 a, b;
+};
+
+// The line of the surface through light point L: it meets e1 at R = L + s (Q − L) and e2 at Q.
+struct CriticalLine {
+  Vec3 source;            // L on the light edge
+  Vec3 direction;         // Q − L
+  double farContact = 1;  // max(1, s): where the event begins along the line
+};
+
+// The critical line through L(t), if it meets both occluder segments in front of the light.
+std::optional<CriticalLine> criticalLine(const Edge3& light, const Edge3& e1, const Edge3& e2,
+                                         double t) {
+  const Vec3 l = light.a + (light.b - light.a) * t;
+  const Vec3 e = e1.b - e1.a;
+  const Vec3 m = cross(e, l - e1.a);  // plane through L and e1
+  const double denominator = dot(m, e2.b - e2.a);
+  if (denominator == 0) return std::nullopt;
+  const double w = dot(m, e1.a - e2.a) / denominator;
+  if (w < 0 || w > 1) return std::nullopt;
+  const Vec3 q = e2.a + (e2.b - e2.a) * w;
+  const Vec3 d = q - l;
+  const double cross2 = dot(m, cross(d, e));
+  if (cross2 == 0) return std::nullopt;
+  const double s = dot(m, cross(e1.a - l, e)) / cross2;
+  const double r = dot(m, cross(e1.a - l, d)) / cross2;
+  if (r < 0 || r > 1 || s <= 0) return std::nullopt;
+  return CriticalLine{l, d, std::max(1.0, s)};
+}
+
+// Where the line x(u) = source + u·direction crosses polygon q, if it does (u of the crossing).
+std::optional<double> crossing(const WorldPolygon& q, const Vec3& source, const Vec3& direction) {
+  const double along = dot(q.plane.normal, direction);
+  if (along == 0) return std::nullopt;
+  const double u = -q.plane.signedDistance(source) / along;
+  const Vec3 x = source + direction * u;
+  // Containment in the projection that drops the normal's largest axis.
+  const Vec3& n = q.plane.normal;
+  const int drop = std::abs(n.x) > std::abs(n.y) ? (std::abs(n.x) > std::abs(n.z) ? 0 : 2)
+                                                 : (std::abs(n.y) > std::abs(n.z) ? 1 : 2);
+  const auto flat = [drop](const Vec3& v) {
+    return drop == 0 ? Vec2{v.y, v.z} : drop == 1 ? Vec2{v.z, v.x} : Vec2{v.x, v.y};
+  };
+  Polygon2 loop;
+  for (const Vec3& v : q.vertices) loop.push_back(flat(v));
+  if (!containsPoint(loop, flat(x))) return std::nullopt;
+  return u;
+}
+
+struct LineHit {
+  bool valid = false;    // the line meets the light edge and both occluder edges
+  bool visible = false;  // nothing blocks it before its far contact, and it reaches a polygon
+  PolygonId receiver = -1;
+  Vec3 point;
+};
+
+class Tracer {
+ public:
+  Tracer(EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
+         const UniformGrid& grid, double chordTolerance)
+      : surface_(surface),
+        scene_(scene),
+        adjacency_(adjacency),
+        grid_(grid),
+        tolerance_(chordTolerance) {
+    const Polygon3& lv = scene.polygons[surface.light].vertices;
+    light_ = {lv[surface.lightEdge], lv[(surface.lightEdge + 1) % lv.size()]};
+    e1_ = edgeOf(surface.first);
+    e2_ = edgeOf(surface.second);
+    for (EdgeId e : {surface.first, surface.second})
+      for (PolygonId p : adjacency.edges()[e].polygons) contactPolygons_.push_back(p);
+  }
+
+  std::vector<DiscontinuitySegment> trace() {
+    constexpr int kSamples = 32;
+    std::vector<LineHit> hits;
+    std::vector<double> ts;
+    for (int i = 0; i <= kSamples; ++i) {
+      ts.push_back(double(i) / kSamples);
+      hits.push_back(hit(ts.back()));
+    }
+    for (int i = 0; i < kSamples; ++i) refine(ts[i], hits[i], ts[i + 1], hits[i + 1], 0);
+    std::sort(surface_.cells.begin(), surface_.cells.end());
+    surface_.cells.erase(std::unique(surface_.cells.begin(), surface_.cells.end()),
+                         surface_.cells.end());
+    return segments_;
+  }
+
+ private:
+  Edge3 edgeOf(EdgeId id) const {
+    const SceneEdge& e = adjacency_.edges()[id];
+    return {adjacency_.position(e.a), adjacency_.position(e.b)};
+  }
+  bool isContact(PolygonId id) const {
+    return std::find(contactPolygons_.begin(), contactPolygons_.end(), id) !=
+           contactPolygons_.end();
+  }
+
+  LineHit hit(double t) {
+    LineHit result;
+    const auto line = criticalLine(light_, e1_, e2_, t);
+    if (!line) return result;
+    result.valid = true;
+    // Both occluder edges must be silhouettes seen along the line.
+    if (!adjacency_.isSilhouetteFrom(surface_.first, line->source) ||
+        !adjacency_.isSilhouetteFrom(surface_.second, line->source))
+      return result;
+    const double reach = 2 * scene_.bounds.diagonalLength() / length(line->direction);
+    const Vec3 end = line->source + line->direction * (line->farContact + reach);
+    const std::vector<int> cells = grid_.cellsAlongSegment(line->source, end);
+    surface_.cells.insert(surface_.cells.end(), cells.begin(), cells.end());
+    double nearest = INFINITY;
+    for (PolygonId id : grid_.polygonsAlongSegment(line->source, end)) {
+      if (id == surface_.light || isContact(id)) continue;
+      const auto u = crossing(scene_.polygons[id], line->source, line->direction);
+      if (!u || *u <= 0) continue;
+      if (*u < line->farContact * (1 - 1e-9)) return result;  // blocked before the event
+      if (*u > line->farContact * (1 + 1e-9) && *u < nearest) {
+        nearest = *u;
+        result.receiver = id;
+      }
+    }
+    if (result.receiver < 0) return result;
+    result.visible = true;
+    result.point = line->source + line->direction * nearest;
+    return result;
+  }
+
+  static double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return distance(x, a + ab * t);
+  }
+
+  void refine(double t0, const LineHit& h0, double t1, const LineHit& h1, int depth) {
+    const bool same = h0.visible && h1.visible && h0.receiver == h1.receiver;
+    const bool bothInvisible = !h0.visible && !h1.visible;
+    if (depth >= 48) return;  // bracketed to 2^-48 of a sample interval: end the piece here
+    const double tm = 0.5 * (t0 + t1);
+    const LineHit hm = hit(tm);
+    if (same && hm.visible && hm.receiver == h0.receiver &&
+        distanceToSegment(hm.point, h0.point, h1.point) <= tolerance_) {
+      segments_.push_back({surface_.id, h0.receiver, h0.point, h1.point, t0, t1});
+      return;
+    }
+    // Invisible at both ends and in the middle: nothing here (a visible stretch narrower than
+    // half a sample interval would be missed; the first samples are 1/32 of the light edge).
+    if (bothInvisible && !hm.visible) return;
+    refine(t0, h0, tm, hm, depth + 1);
+    refine(tm, hm, t1, h1, depth + 1);
+  }
+
+  EeeSurface& surface_;
+  const PosedScene& scene_;
+  const EdgeAdjacency& adjacency_;
+  const UniformGrid& grid_;
+  double tolerance_;
+  Edge3 light_, e1_, e2_;
+  std::vector<PolygonId> contactPolygons_;
+  std::vector<DiscontinuitySegment> segments_;
+};
+
+bool sharesVertex(const SceneEdge& a, const SceneEdge& b) {
+  return a.a == b.a || a.a == b.b || a.b == b.a || a.b == b.b;
+}
+
+bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
+  return std::find(polygons.begin(), polygons.end(), light) != polygons.end();
+}
+
+}  // namespace
+
+std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
+                                             const EdgeAdjacency& adjacency,
+                                             const UniformGrid& grid, PolygonId light,
+                                             SurfaceId firstId) {
+  std::vector<EeeSurface> surfaces;
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const Polygon3& lv = lightPolygon.vertices;
+  const double reach = 2 * scene.bounds.diagonalLength();
+  const auto inFront = [&](const SceneEdge& e) {
+    return lightPolygon.plane.signedDistance(adjacency.position(e.a)) > 0 ||
+           lightPolygon.plane.signedDistance(adjacency.position(e.b)) > 0;
+  };
+  const auto usable = [&](const SceneEdge& e) {
+    return e.canBeSilhouette && !touchesLight(e.polygons, light) && inFront(e);
+  };
+  std::vector<int> seen(adjacency.edges().size(), -1);
+  for (size_t i = 0; i < adjacency.edges().size(); ++i) {
+    const SceneEdge& e1 = adjacency.edges()[i];
+    if (!usable(e1)) continue;
+    const Edge3 first{adjacency.position(e1.a), adjacency.position(e1.b)};
+    // What the light sees through e1, and the space between them.
+    Box3 region = lightPolygon.bounds;
+    for (const Vec3& x : {first.a, first.b}) {
+      region.extend(x);
+      for (const Vec3& c : lv) region.extend(x + normalize(x - c) * reach);
+    }
+    for (PolygonId id : grid.polygonsInBox(region)) {
+      const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
+      for (size_t k = 0; k < corners.size(); ++k) {
+        const EdgeId j = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+        if (j <= EdgeId(i) || seen[j] == int(i)) continue;
+        seen[j] = int(i);
+        const SceneEdge& e2 = adjacency.edges()[j];
+        if (!usable(e2) || sharesVertex(e1, e2)) continue;
+        const Edge3 second{adjacency.position(e2.a), adjacency.position(e2.b)};
+        // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event
+        // (or nothing), not a quadric.
+        if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) continue;
+        for (size_t l = 0; l < lv.size(); ++l) {
+          const Edge3 lightEdge{lv[l], lv[(l + 1) % lv.size()]};
+          // An occluder edge coplanar with the light edge (e.g. parallel to it) makes the lines
+          // one plane: the EV fans of that plane already hold the event.
+          if (orientation3d(lightEdge.a, lightEdge.b, first.a, first.b) == Sign::kZero ||
+              orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
+            continue;
+          bool any = false;
+          for (int s = 0; s <= 32 && !any; ++s)
+            any = criticalLine(lightEdge, first, second, s / 32.0).has_value();
+          if (!any) continue;
+          surfaces.push_back(
+              {firstId + SurfaceId(surfaces.size()), light, int(l), EdgeId(i), j, {}});
+        }
+      }
+    }
+  }
+  return surfaces;
+}
+
+std::vector<DiscontinuitySegment> traceEeeSurface(EeeSurface& surface, const PosedScene& scene,
+                                                  const EdgeAdjacency& adjacency,
+                                                  const UniformGrid& grid, double chordTolerance) {
+  surface.cells.clear();
+  return Tracer(surface, scene, adjacency, grid, chordTolerance).trace();
+}
+
+}  // namespace penumbra
