@@ -1,6 +1,7 @@
 #include "penumbra/dm/eee_surfaces.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -39,6 +40,36 @@ std::optional<CriticalLine> criticalLine(const Edge3& light, const Edge3& e1, co
   const double r = dot(m, cross(e1.a - l, d)) / cross2;
   if (r < 0 || r > 1 || s <= 0) return std::nullopt;
   return CriticalLine{l, d, std::max(1.0, s)};
+}
+
+// The t-ranges of the light edge where critical lines exist. Existence only changes where a line
+// passes through an endpoint of e1 or e2 (the plane through that endpoint and the other edge
+// crosses the light edge there), so it is decided at the middle of each range between them.
+std::vector<std::array<double, 2>> validRanges(const Edge3& light, const Edge3& e1,
+                                               const Edge3& e2) {
+  std::vector<double> breaks{0, 1};
+  const auto add = [&](const Vec3& v, const Edge3& other) {
+    const Vec3 m = cross(other.b - other.a, v - other.a);
+    const double denominator = dot(m, light.b - light.a);
+    if (denominator == 0) return;
+    const double t = dot(m, other.a - light.a) / denominator;
+    if (t > 0 && t < 1) breaks.push_back(t);
+  };
+  add(e1.a, e2);
+  add(e1.b, e2);
+  add(e2.a, e1);
+  add(e2.b, e1);
+  std::sort(breaks.begin(), breaks.end());
+  std::vector<std::array<double, 2>> ranges;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
+    if (breaks[k + 1] <= breaks[k]) continue;
+    if (!criticalLine(light, e1, e2, 0.5 * (breaks[k] + breaks[k + 1]))) continue;
+    if (!ranges.empty() && ranges.back()[1] == breaks[k])
+      ranges.back()[1] = breaks[k + 1];
+    else
+      ranges.push_back({breaks[k], breaks[k + 1]});
+  }
+  return ranges;
 }
 
 // Where the line x(u) = source + u·direction crosses polygon q, if it does (u of the crossing).
@@ -86,13 +117,15 @@ class Tracer {
 
   std::vector<DiscontinuitySegment> trace() {
     constexpr int kSamples = 32;
-    std::vector<LineHit> hits;
-    std::vector<double> ts;
-    for (int i = 0; i <= kSamples; ++i) {
-      ts.push_back(double(i) / kSamples);
-      hits.push_back(hit(ts.back()));
+    for (const auto& [ta, tb] : validRanges(light_, e1_, e2_)) {
+      std::vector<LineHit> hits;
+      std::vector<double> ts;
+      for (int i = 0; i <= kSamples; ++i) {
+        ts.push_back(ta + (tb - ta) * double(i) / kSamples);
+        hits.push_back(hit(ts.back()));
+      }
+      for (int i = 0; i < kSamples; ++i) refine(ts[i], hits[i], ts[i + 1], hits[i + 1], 0);
     }
-    for (int i = 0; i < kSamples; ++i) refine(ts[i], hits[i], ts[i + 1], hits[i + 1], 0);
     std::sort(surface_.cells.begin(), surface_.cells.end());
     surface_.cells.erase(std::unique(surface_.cells.begin(), surface_.cells.end()),
                          surface_.cells.end());
@@ -229,10 +262,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
           if (orientation3d(lightEdge.a, lightEdge.b, first.a, first.b) == Sign::kZero ||
               orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
             continue;
-          bool any = false;
-          for (int s = 0; s <= 32 && !any; ++s)
-            any = criticalLine(lightEdge, first, second, s / 32.0).has_value();
-          if (!any) continue;
+          if (validRanges(lightEdge, first, second).empty()) continue;
           surfaces.push_back(
               {firstId + SurfaceId(surfaces.size()), light, int(l), EdgeId(i), j, {}});
         }

@@ -82,32 +82,40 @@ struct ReceiverMesh::Impl {
       std::sort(ys.begin(), ys.end());
       return ys;
     };
-    size_t bestSlab = 0, bestInterval = 0;
-    double bestScore = -1;
+    struct Candidate {
+      double score;
+      size_t slab, interval;
+    };
+    std::vector<Candidate> candidates;
     for (size_t k = 0; k + 1 < xs.size(); ++k) {
       const double x0 = CGAL::to_double(xs[k]), x1 = CGAL::to_double(xs[k + 1]);
       const std::vector<double> ys = crossings(0.5 * (x0 + x1));
-      for (size_t i = 0; i + 1 < ys.size(); i += 2) {
-        const double score = std::min(ys[i + 1] - ys[i], x1 - x0);
-        if (score > bestScore) {
-          bestScore = score;
-          bestSlab = k;
-          bestInterval = i;
-        }
+      for (size_t i = 0; i + 1 < ys.size(); i += 2)
+        candidates.push_back({std::min(ys[i + 1] - ys[i], x1 - x0), k, i});
+    }
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    // The sample is used as a double 3D point: it must locate, rounded like a query, in f itself.
+    std::optional<Point> fallback;
+    for (size_t c = 0; c < candidates.size() && c < 8; ++c) {
+      const FT x0 = (xs[candidates[c].slab] + xs[candidates[c].slab + 1]) / 2;
+      std::vector<FT> ys;
+      for (auto h : boundary) {
+        const Point& a = h->source()->point();
+        const Point& b = h->target()->point();
+        if ((a.x() < x0) == (b.x() < x0)) continue;
+        ys.push_back(a.y() + (b.y() - a.y()) * (x0 - a.x()) / (b.x() - a.x()));
       }
+      std::sort(ys.begin(), ys.end());
+      const size_t i = candidates[c].interval;
+      if (ys.size() < i + 2) continue;
+      const Point inside(x0, (ys[i] + ys[i + 1]) / 2);
+      if (!fallback) fallback = inside;
+      const auto located = locator.locate(toPoint(toWorld(inside)));
+      const auto* face = boost::get<Arrangement::Face_const_handle>(&located);
+      if (face && *face == f) return inside;
     }
-    // The exact crossings on the chosen line, in the same order.
-    const FT x0 = (xs[bestSlab] + xs[bestSlab + 1]) / 2;
-    std::vector<FT> ys;
-    for (auto h : boundary) {
-      const Point& a = h->source()->point();
-      const Point& b = h->target()->point();
-      if ((a.x() < x0) == (b.x() < x0)) continue;
-      ys.push_back(a.y() + (b.y() - a.y()) * (x0 - a.x()) / (b.x() - a.x()));
-    }
-    std::sort(ys.begin(), ys.end());
-    if (ys.size() < bestInterval + 2) return std::nullopt;
-    return Point(x0, (ys[bestInterval] + ys[bestInterval + 1]) / 2);
+    return fallback;
   }
 
   void indexFaces() {
