@@ -27,9 +27,12 @@ nlohmann::json statsJson(const DmStats& s) {
             {"ev_light_edge_occluder_vertex", s.surfacesEmitterEdge},
             {"ev_non_emitter", s.surfacesNonEmitter},
             {"eee_light_edge_occluder_plane", s.surfacesOccluderPlane},
-            {"eee_general", 0},
+            {"ev_occluder_plane_occluder_edge", s.surfacesOccluderPlaneEdge},
+            {"eee_light_edge_two_occluder_edges", s.surfacesEee},
+            {"eee_three_occluder_edges", 0},
             {"total", s.surfacesEmitterVertex + s.surfacesEmitterEdge + s.surfacesNonEmitter +
-                          s.surfacesOccluderPlane}}},
+                          s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesEee}}},
+          {"eee_polyline_segments", s.eeeSegments},
           {"stored_intersections", s.storedIntersections},
           {"visible_segments", s.visibleSegments},
           {"contact_segments", s.contactSegments},
@@ -42,10 +45,11 @@ nlohmann::json statsJson(const DmStats& s) {
             {"stored_intersections", s.intersectionBytes},
             {"meshes", s.meshBytes},
             {"backprojections", s.backprojectionBytes}}},
-          {"seconds",
+          {"stage_seconds",
            {{"surfaces", s.secondsSurfaces},
             {"casting", s.secondsCasting},
             {"visibility", s.secondsVisibility},
+            {"eee_tracing", s.secondsEee},
             {"meshing", s.secondsMeshing},
             {"backprojections", s.secondsBackprojections}}}};
 }

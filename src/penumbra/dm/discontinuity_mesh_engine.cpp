@@ -1,6 +1,7 @@
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -43,12 +44,12 @@ std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const
 // two faces. Extending every segment a little at both ends turns near-misses into crossings: the
 // mesh may gain tiny faces (over-refinement, harmless: each gets its own backprojection) but never
 // loses one (Drettakis & Fiume's robustness rule).
-DiscontinuitySegment extended(DiscontinuitySegment s, double by) {
+DiscontinuitySegment extended(DiscontinuitySegment s, double atStart, double atEnd) {
   const Vec3 d = s.p1 - s.p0;
   const double len = length(d);
   if (len == 0) return s;
-  s.p0 = s.p0 - d * (by / len);
-  s.p1 = s.p1 + d * (by / len);
+  s.p0 = s.p0 - d * (atStart / len);
+  s.p1 = s.p1 + d * (atEnd / len);
   return s;
 }
 
@@ -150,8 +151,22 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
     if (receiver.isLight) continue;
     ReceiverData data{ReceiverMesh(receiver), {}, std::move(eeeOnReceiver[receiver.id])};
     std::vector<DiscontinuitySegment> segments;
-    for (const DiscontinuitySegment& segment : perReceiver[receiver.id])
-      segments.push_back(extended(segment, kSegmentExtension * scene.bounds.diagonalLength()));
+    // Segments end where events meet, computed apart: extend their ends (see extended()). The
+    // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they are.
+    std::map<std::pair<SurfaceId, std::array<double, 3>>, int> ends;
+    const auto endKey = [](const DiscontinuitySegment& s, const Vec3& p) {
+      return std::pair{s.surface, std::array<double, 3>{p.x, p.y, p.z}};
+    };
+    for (const DiscontinuitySegment& segment : perReceiver[receiver.id]) {
+      ++ends[endKey(segment, segment.p0)];
+      ++ends[endKey(segment, segment.p1)];
+    }
+    const double by = kSegmentExtension * scene.bounds.diagonalLength();
+    for (const DiscontinuitySegment& segment : perReceiver[receiver.id]) {
+      const bool open0 = ends[endKey(segment, segment.p0)] == 1;
+      const bool open1 = ends[endKey(segment, segment.p1)] == 1;
+      segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
+    }
     const std::vector<DiscontinuitySegment> contact = contactSegments(scene, *grid_, receiver);
     stats_.contactSegments += (long long)contact.size();
     segments.insert(segments.end(), contact.begin(), contact.end());

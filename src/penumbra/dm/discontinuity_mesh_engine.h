@@ -54,7 +54,7 @@ class DiscontinuityMeshEngine {
   static constexpr double kSegmentExtension = 1e-9;
   // EEE conics are traced as polylines within this fraction of the scene's size; points closer
   // than twice that to such a polyline get their backprojection computed where they are.
-  static constexpr double kEeeChordTolerance = 1e-7;
+  static constexpr double kEeeChordTolerance = 1e-6;
 
   DiscontinuityMeshEngine();
   ~DiscontinuityMeshEngine();

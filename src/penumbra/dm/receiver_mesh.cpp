@@ -63,21 +63,31 @@ struct ReceiverMesh::Impl {
     if (f->has_outer_ccb()) collect(f->outer_ccb());
     for (auto h = f->holes_begin(); h != f->holes_end(); ++h) collect(*h);
     if (boundary.empty()) return std::nullopt;
-    std::vector<FT> xs;
-    for (auto h : boundary) xs.push_back(h->source()->point().x());
-    std::sort(xs.begin(), xs.end());
-    xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+    // Floating-point coordinates from the lazy points' interval approximations (no exact
+    // construction): the search runs on them, only the chosen point is constructed exactly.
+    struct Side {
+      double ax, ay, bx, by;
+    };
+    std::vector<Side> sides;
+    std::vector<std::pair<double, Arrangement::Vertex_const_handle>> xs;
+    for (auto h : boundary) {
+      const auto& a = h->source()->point().approx();
+      const auto& b = h->target()->point().approx();
+      sides.push_back({CGAL::to_double(a.x()), CGAL::to_double(a.y()), CGAL::to_double(b.x()),
+                       CGAL::to_double(b.y())});
+      xs.push_back({sides.back().ax, h->source()});
+    }
+    std::sort(xs.begin(), xs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    xs.erase(std::unique(xs.begin(), xs.end(),
+                         [](const auto& a, const auto& b) { return a.first == b.first; }),
+             xs.end());
     if (xs.size() < 2) return std::nullopt;
     // Crossings of the vertical line x with the boundary, in floating point.
     const auto crossings = [&](double x) {
       std::vector<double> ys;
-      for (auto h : boundary) {
-        const double ax = CGAL::to_double(h->source()->point().x());
-        const double bx = CGAL::to_double(h->target()->point().x());
-        if ((ax < x) == (bx < x)) continue;
-        const double ay = CGAL::to_double(h->source()->point().y());
-        const double by = CGAL::to_double(h->target()->point().y());
-        ys.push_back(ay + (by - ay) * (x - ax) / (bx - ax));
+      for (const Side& e : sides) {
+        if ((e.ax < x) == (e.bx < x)) continue;
+        ys.push_back(e.ay + (e.by - e.ay) * (x - e.ax) / (e.bx - e.ax));
       }
       std::sort(ys.begin(), ys.end());
       return ys;
@@ -86,19 +96,29 @@ struct ReceiverMesh::Impl {
       double score;
       size_t slab, interval;
     };
+    // The widest slabs first; a face with many vertices (a traced conic) is searched on 64.
+    std::vector<size_t> slabs(xs.size() - 1);
+    for (size_t k = 0; k < slabs.size(); ++k) slabs[k] = k;
+    const auto width = [&](size_t k) { return xs[k + 1].first - xs[k].first; };
+    if (slabs.size() > 64) {
+      std::nth_element(slabs.begin(), slabs.begin() + 64, slabs.end(),
+                       [&](size_t a, size_t b) { return width(a) > width(b); });
+      slabs.resize(64);
+    }
     std::vector<Candidate> candidates;
-    for (size_t k = 0; k + 1 < xs.size(); ++k) {
-      const double x0 = CGAL::to_double(xs[k]), x1 = CGAL::to_double(xs[k + 1]);
-      const std::vector<double> ys = crossings(0.5 * (x0 + x1));
+    for (size_t k : slabs) {
+      const std::vector<double> ys = crossings(xs[k].first + 0.5 * width(k));
       for (size_t i = 0; i + 1 < ys.size(); i += 2)
-        candidates.push_back({std::min(ys[i + 1] - ys[i], x1 - x0), k, i});
+        candidates.push_back({std::min(ys[i + 1] - ys[i], width(k)), k, i});
     }
     std::sort(candidates.begin(), candidates.end(),
               [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     // The sample is used as a double 3D point: it must locate, rounded like a query, in f itself.
     std::optional<Point> fallback;
     for (size_t c = 0; c < candidates.size() && c < 8; ++c) {
-      const FT x0 = (xs[candidates[c].slab] + xs[candidates[c].slab + 1]) / 2;
+      const FT x0 = (xs[candidates[c].slab].second->point().x() +
+                     xs[candidates[c].slab + 1].second->point().x()) /
+                    2;
       std::vector<FT> ys;
       for (auto h : boundary) {
         const Point& a = h->source()->point();
