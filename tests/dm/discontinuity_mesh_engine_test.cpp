@@ -101,6 +101,66 @@ TEST(DiscontinuityMeshEngine, TwoBoxesWithSeparateShadowsAreExact) {
   expectExact(b.pose(), 1500, 5);
 }
 
+// Degenerate configurations (issue: robustness).
+TEST(DiscontinuityMeshEngine, CardWithCollinearVerticesIsExact) {
+  test::SceneBuilder b = litRoom();
+  b.addPolygon("white", {{1.6, 1.6, 1.2},
+                         {2.0, 1.6, 1.2},
+                         {2.4, 1.6, 1.2},
+                         {2.4, 2.3, 1.2},
+                         {2.0, 2.3, 1.2},
+                         {1.6, 2.3, 1.2}});
+  expectExact(b.pose(), 1500, 8);
+}
+
+TEST(DiscontinuityMeshEngine, CoplanarOccludersSharingAnEdgeAreExact) {
+  test::SceneBuilder b = litRoom();
+  b.addPolygon("white", {{1.4, 1.5, 1.3}, {2.0, 1.5, 1.3}, {2.0, 2.2, 1.3}, {1.4, 2.2, 1.3}},
+               "card");
+  b.addPolygon("white", {{2.0, 1.5, 1.3}, {2.6, 1.5, 1.3}, {2.6, 2.2, 1.3}, {2.0, 2.2, 1.3}},
+               "card");
+  expectExact(b.pose(), 1500, 9);
+}
+
+TEST(DiscontinuityMeshEngine, LightEdgeInThePlaneOfAnOccluderFaceIsExact) {
+  test::SceneBuilder b = litRoom();
+  // The box's face x = 1.5 contains the light's edge x = 1.5.
+  test::addBox(b, "white", "box", {1.5, 1.8, 1.0}, {2.0, 2.3, 1.5});
+  expectExact(b.pose(), 1500, 10);
+}
+
+// A triangulated copy of a scene: the diagonals join coplanar triangles and are never
+// silhouettes, so the emitter events are the same and the result stays exact.
+TEST(DiscontinuityMeshEngine, TriangulatedCopyGivesTheSameEventsAndStaysExact) {
+  const auto build = [](bool triangulated) {
+    test::SceneBuilder b = litRoom();
+    const Quaternion turn = Quaternion::fromAxisAngle(normalize(Vec3{1, -1, 0.3}), 0.5);
+    for (Polygon3 face : test::boxFaces({-0.35, -0.25, -0.2}, {0.35, 0.25, 0.2})) {
+      for (Vec3& v : face) v = turn.toMatrix() * v + Vec3{2.1, 1.9, 1.3};
+      if (!triangulated) {
+        b.addPolygon("white", face, "box");
+        continue;
+      }
+      b.addPolygon("white", {face[0], face[1], face[2]}, "box");
+      b.addPolygon("white", {face[0], face[2], face[3]}, "box");
+    }
+    return b;
+  };
+  const PosedScene quads = build(false).pose(), triangles = build(true).pose();
+  DiscontinuityMeshEngine a, b;
+  a.build(PosedScene(quads));
+  b.build(PosedScene(triangles));
+  EXPECT_EQ(a.stats().surfacesEmitterVertex, b.stats().surfacesEmitterVertex);
+  EXPECT_EQ(a.stats().surfacesEmitterEdge, b.stats().surfacesEmitterEdge);
+  expectExact(triangles, 1500, 6);
+  // The same points on both give the same irradiance.
+  for (const ReceiverPoint& q : sampleReceiverPoints(quads, 300, 7)) {
+    const auto x = a.irradiance(q.p, q.n), y = b.irradiance(q.p, q.n);
+    ASSERT_TRUE(x && y);
+    EXPECT_NEAR(x->r, y->r, 1e-9 * std::max(x->r, 1e-2));
+  }
+}
+
 // The triangulated mesh: triangles tile every receiver, and every corner carries the exact
 // irradiance (its face's backprojection evaluated there equals the reference at that point).
 TEST(DiscontinuityMeshEngine, IrradianceMeshTilesReceiversWithExactCorners) {
