@@ -1,16 +1,28 @@
-// Form factors. Between two elements the transfer is the receiver-area mean of the exact
-// point-to-polygon form factor (Lambert's formula on the source clipped to the receiver point's
-// front half-space) at the centroids of the receiver's four children: exact per point, so the
-// sum over the sources seen from a point is 1 in a closed scene up to visibility. When a cluster
-// is involved the transfer is a Monte Carlo estimate over area-uniform point pairs of
-// cos⁺ cos⁺ / (π r² + A_s / N) (the disk regularisation keeps it bounded), with each pair's ray
-// giving the visibility, so form factor and visibility use the same pairs.
+// Link estimates: form factor, its variation over the receiver, and visibility.
+//
+// Element to element: the transfer is the receiver-area mean of the exact point-to-polygon form
+// factor (Lambert's formula on the source clipped to the receiver point's front half-space),
+// integrated by an adaptive midpoint rule on the receiver's quadtree (at least its 16
+// grandchildren; cells are split further while their four children's mean disagrees with their
+// centre value, as near an edge shared with the source, where the point form factor is steep).
+// Exact per point, so the form factors of the sources seen from a point sum to 1 in a closed scene,
+// up to visibility; visibility is the fraction of unoccluded rays between stratified points.
+// Two elements in contact face to face (coplanar, opposite normals: a box standing on the floor,
+// a door glued on a cabinet) see only each other where they overlap: the limit of the form factor
+// as the gap closes is the overlap's share of the receiver's area, with nothing in between.
+//
+// A cluster at one end (Smits, Arvo & Greenberg 1994; Sillion 1995): receiver points area-uniform
+// and stratified over the receiver's surfaces; at each, the exact unoccluded form factor to every
+// root element of the source (Lambert's formula, no singularity, no regularisation bias), and one
+// ray to a point of a source element chosen in proportion to its form factor, so the visibility is
+// form-factor weighted. The transfer is the mean over the receiver points.
 
 #include "penumbra/radiosity/radiosity_solver.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <numbers>
 #include <unordered_map>
@@ -62,6 +74,77 @@ double pointToElement(const Vec3& x, const Vec3& n, const Element& s) {
   return std::max(0.0, pointToPolygonFormFactor(x, n, clipped));
 }
 
+// Relative slack for "on the plane": a polygon touching a plane counts as lying in it.
+double contactSlack(const PosedScene& scene) {
+  return 1e-9 * std::max(1.0, scene.bounds.diagonalLength());
+}
+
+Vec3 vertexMean(const std::array<Vec3, 4>& loop, int count) {
+  Vec3 c{0, 0, 0};
+  for (int i = 0; i < count; ++i) c += loop[i];
+  return c / double(count);
+}
+
+// The share of r's area that the element s covers when both lie in one plane facing each other,
+// or nothing when they do not (both are convex: r is clipped by the inner half-spaces of s's
+// edges).
+std::optional<double> contactShare(const Element& r, const Element& s, double slack) {
+  if (dot(r.normal, s.normal) > -1 + 1e-9) return std::nullopt;
+  const Plane plane = Plane::fromPointNormal(s.vertices[0], s.normal);
+  for (int i = 0; i < r.vertexCount; ++i)
+    if (std::abs(plane.signedDistance(r.vertices[i])) > slack) return std::nullopt;
+  Polygon3 overlap = loopOf(r);
+  for (int i = 0; i < s.vertexCount && overlap.size() >= 3; ++i) {
+    const Vec3& a = s.vertices[i];
+    const Vec3& b = s.vertices[(i + 1) % s.vertexCount];
+    overlap = clipByPlane(overlap, Plane::fromPointNormal(a, cross(s.normal, b - a)));
+  }
+  return overlap.size() >= 3 ? std::min(1.0, area(overlap) / r.area) : 0.0;
+}
+
+// Adaptive midpoint rule for the mean over the cell `loop` of the point form factor to `s`.
+// `centre` is the value at the cell's centre; `level` counts cells below the receiver.
+struct FormFactorQuadrature {
+  const Element& source;
+  Vec3 normal;
+  int vertexCount;
+  double lowest = 1e300, highest = 0;
+  int evaluations = 0;
+
+  static constexpr int kMinLevel = 1;  // grandchildren of the receiver at least (16 points)
+  static constexpr int kMaxLevel = 6;  // 1/64 of the receiver's side
+  static constexpr double kAbsoluteTolerance = 1e-4;
+
+  double at(const Vec3& x) {
+    ++evaluations;
+    const double f = pointToElement(x, normal, source);
+    lowest = std::min(lowest, f);
+    highest = std::max(highest, f);
+    return f;
+  }
+  double mean(const std::array<Vec3, 4>& loop, double centre, int level) {
+    Element cell;
+    cell.vertices = loop;
+    cell.vertexCount = std::uint8_t(vertexCount);
+    const auto children = cell.childVertices();
+    std::array<double, 4> values{}, areas{};
+    double sum = 0, total = 0;
+    for (int k = 0; k < 4; ++k) {
+      areas[k] = elementArea(children[k], vertexCount);
+      values[k] = at(vertexMean(children[k], vertexCount));
+      sum += areas[k] * values[k];
+      total += areas[k];
+    }
+    const double estimate = sum / total;
+    if (level >= kMaxLevel ||
+        (level >= kMinLevel && std::abs(estimate - centre) <= kAbsoluteTolerance))
+      return estimate;
+    sum = 0;
+    for (int k = 0; k < 4; ++k) sum += areas[k] * mean(children[k], values[k], level + 1);
+    return sum / total;
+  }
+};
+
 }  // namespace
 
 void RadiositySolver::estimate(Link& link) {
@@ -70,26 +153,16 @@ void RadiositySolver::estimate(Link& link) {
   if (!r.isCluster() && !s.isCluster()) {
     const Element& re = elements_[r.index];
     const Element& se = elements_[s.index];
-    // Midpoint rule on the receiver's grandchildren: 16 points, enough for pairs that share an
-    // edge, where the point form factor has a logarithmic profile.
-    double transfer = 0, lowest = 1e300, highest = 0;
-    for (const auto& loop : re.childVertices()) {
-      Element child;
-      child.vertices = loop;
-      child.vertexCount = re.vertexCount;
-      for (const auto& subLoop : child.childVertices()) {
-        const double a = elementArea(subLoop, re.vertexCount);
-        Vec3 c{0, 0, 0};
-        for (int i = 0; i < re.vertexCount; ++i) c += subLoop[i];
-        c = c / double(re.vertexCount);
-        const double f = pointToElement(c, re.normal, se);
-        transfer += a * f;
-        lowest = std::min(lowest, f);
-        highest = std::max(highest, f);
-      }
+    if (const auto share = contactShare(re, se, contactSlack(scene_))) {
+      link.unoccludedTransfer = float(*share);
+      link.transferSpread = *share > 0 && *share < 1 ? 1.f : 0.f;
+      link.visibility = *share > 0 ? 1.f : 0.f;
+      return;
     }
-    link.unoccludedTransfer = float(transfer / re.area);
-    link.transferSpread = float(highest - lowest);
+    FormFactorQuadrature quadrature{se, re.normal, re.vertexCount};
+    const double transfer = quadrature.mean(re.vertices, quadrature.at(re.centroid()), 0);
+    link.unoccludedTransfer = float(transfer);
+    link.transferSpread = float(quadrature.highest - quadrature.lowest);
     if (link.unoccludedTransfer <= 0) {
       link.visibility = 0;
       return;
@@ -100,7 +173,7 @@ void RadiositySolver::estimate(Link& link) {
     std::vector<int> order(n);
     for (int i = 0; i < n; ++i) order[i] = i;
     for (int i = n - 1; i > 0; --i) std::swap(order[i], order[rng.next() % (i + 1)]);
-    int unoccluded = 0;
+    double weightSum = 0, visibleWeight = 0;
     for (int i = 0; i < n; ++i) {
       const auto stratum = [&](int k, double& u, double& v) {
         const int cell = k % (side * side);
@@ -112,32 +185,82 @@ void RadiositySolver::estimate(Link& link) {
       const Vec3 x = re.samplePoint(u, v);
       stratum(order[i], u, v);
       const Vec3 y = se.samplePoint(u, v);
-      if (!rays_->isOccluded(x, y)) ++unoccluded;
+      // Self-normalised, weighted by the point-to-point kernel: pairs that exchange more count
+      // more (the fraction of unoccluded pairs is biased low where the parts of the source near
+      // the receiver are less often hidden than the far ones, as is usual).
+      const Vec3 d = y - x;
+      const double r2 = dot(d, d);
+      const double weight =
+          r2 > 0 ? std::max(0.0, dot(re.normal, d)) * std::max(0.0, -dot(se.normal, d)) / (r2 * r2)
+                 : 0.0;
+      weightSum += weight;
+      if (isVisible(re.polygon, x, se.polygon, y)) visibleWeight += weight;
     }
     stats_.visibilityRays += n;
-    link.visibility = float(double(unoccluded) / n);
+    link.visibility = weightSum > 0 ? float(visibleWeight / weightSum) : 0.f;
     return;
   }
-  // A cluster at one end or both: point pairs, each with its kernel and its ray.
+  // A cluster at one end or both: exact point-to-element form factors from receiver points to
+  // the source's root elements (or the source element), one form-factor-weighted ray per point.
+  std::vector<int> sources;
+  if (s.isCluster())
+    sources.assign(rootOrder_.begin() + clusters_[s.index].elementBegin,
+                   rootOrder_.begin() + clusters_[s.index].elementEnd);
+  else
+    sources.push_back(s.index);
+  std::vector<double> cumulative(sources.size() + 1, 0);
   const int n = std::max(1, options_.clusterSamples);
-  const double sourceArea = area(s);
-  double unoccluded = 0, visible = 0;
+  double unoccluded = 0, visible = 0, lowest = 1e300, highest = 0;
   for (int i = 0; i < n; ++i) {
     const SurfacePoint x = samplePoint(r, rng.uniform(), rng.uniform(), (i + rng.uniform()) / n);
-    const SurfacePoint y = samplePoint(s, rng.uniform(), rng.uniform(), rng.uniform());
-    const Vec3 d = y.position - x.position;
-    const double r2 = dot(d, d);
-    if (r2 == 0) continue;
-    const double cx = dot(x.normal, d), cy = -dot(y.normal, d);
-    if (cx <= 0 || cy <= 0) continue;
-    const double kernel = cx * cy / r2 / (std::numbers::pi * r2 + sourceArea / n);
-    unoccluded += kernel;
+    for (size_t k = 0; k < sources.size(); ++k)
+      cumulative[k + 1] =
+          cumulative[k] + pointToElement(x.position, x.normal, elements_[sources[k]]);
+    const double f = cumulative.back();
+    lowest = std::min(lowest, f);
+    highest = std::max(highest, f);
+    if (!(f > 0)) continue;
+    unoccluded += f;
+    const double target = rng.uniform() * f;
+    const size_t k = std::min<size_t>(
+        std::upper_bound(cumulative.begin() + 1, cumulative.end(), target) - cumulative.begin() - 1,
+        sources.size() - 1);
+    const Vec3 y = elements_[sources[k]].samplePoint(rng.uniform(), rng.uniform());
     ++stats_.visibilityRays;
-    if (!rays_->isOccluded(x.position, y.position)) visible += kernel;
+    if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
   }
-  link.unoccludedTransfer = float(sourceArea * unoccluded / n);
-  link.transferSpread = link.unoccludedTransfer;
+  link.unoccludedTransfer = float(unoccluded / n);
+  // The variation over the receiver's points, or the whole transfer when the receiver is a
+  // cluster (its surfaces face different ways: gathering gives them all the mean).
+  link.transferSpread = r.isCluster() ? link.unoccludedTransfer : float(highest - lowest);
   link.visibility = unoccluded > 0 ? float(visible / unoccluded) : 0.f;
+}
+
+}  // namespace penumbra
+
+namespace penumbra {
+
+// The link's transfer seen from one point of its receiver: the exact unoccluded point form factor
+// to a source element (to the root elements of a source cluster) times the link's visibility.
+double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal) const {
+  const NodeRef s = link.source;
+  double f = 0;
+  if (!s.isCluster()) {
+    const Element& se = elements_[s.index];
+    if (!link.receiver.isCluster() &&
+        contactShare(elements_[link.receiver.index], se, contactSlack(scene_)))
+      return se.insideness(x) >= 0 ? 1 : 0;  // in contact: the source covers x or not
+    if (!link.receiver.isCluster() && isCovered(elements_[link.receiver.index].polygon, x))
+      return 0;  // x sees only what covers it
+    f = pointToElement(x, normal, se);
+  } else {
+    if (!link.receiver.isCluster() && isCovered(elements_[link.receiver.index].polygon, x))
+      return 0;
+    const Cluster& c = clusters_[s.index];
+    for (int i = c.elementBegin; i < c.elementEnd; ++i)
+      f += pointToElement(x, normal, elements_[rootOrder_[i]]);
+  }
+  return f * link.visibility;
 }
 
 }  // namespace penumbra

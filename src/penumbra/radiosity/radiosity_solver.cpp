@@ -44,6 +44,7 @@ RadiositySolver::~RadiositySolver() = default;
 void RadiositySolver::clear() {
   elements_.clear();
   polygonRoots_.clear();
+  contacts_.clear();
   rootOrder_.clear();
   rootCumulativeArea_.clear();
   clusters_.clear();
@@ -69,6 +70,7 @@ void RadiositySolver::build(const PosedScene& scene) {
   grid_ = std::make_unique<UniformGrid>(scene_);
   rays_ = std::make_unique<RayCaster>(scene_);
   buildElements();
+  findContacts();
   CHECK(!elements_.empty());
   rootOrder_.resize(elements_.size());
   for (size_t i = 0; i < elements_.size(); ++i) rootOrder_[i] = int(i);
@@ -92,7 +94,8 @@ void RadiositySolver::build(const PosedScene& scene) {
   addLink({NodeRef::kCluster, 0}, {NodeRef::kCluster, 0}, false);
   for (int pass = 0; pass < std::max(1, options_.refinementPasses); ++pass) {
     const auto refineStart = std::chrono::steady_clock::now();
-    const bool refined = refineActiveLinks();
+    bool refined = refineActiveLinks();
+    refined = refineReceivers() || refined;
     stats_.refineSeconds += elapsedSeconds(refineStart);
     if (!refined && pass > 0) break;
     const auto solveStart = std::chrono::steady_clock::now();
@@ -102,6 +105,36 @@ void RadiositySolver::build(const PosedScene& scene) {
   buildMesh();
   computeStats();
   stats_.totalSeconds = elapsedSeconds(start);
+}
+
+// Pairs of polygons in one plane facing each other with overlapping bounds (a box standing on the
+// floor, a handle on a drawer). Quadratic in the polygon count with a cheap test per pair; a plane
+// hash would do for much larger scenes.
+void RadiositySolver::findContacts() {
+  contacts_.assign(scene_.polygons.size(), {});
+  const double slack = 1e-9 * std::max(1.0, scene_.bounds.diagonalLength());
+  for (const WorldPolygon& a : scene_.polygons)
+    for (const WorldPolygon& b : scene_.polygons) {
+      if (b.id <= a.id || dot(a.plane.normal, b.plane.normal) > -1 + 1e-9) continue;
+      if (!a.bounds.expanded(slack).overlaps(b.bounds)) continue;
+      bool coplanar = true;
+      for (const Vec3& v : b.vertices)
+        coplanar = coplanar && std::abs(a.plane.signedDistance(v)) <= slack;
+      if (!coplanar) continue;
+      contacts_[a.id].push_back(b.id);
+      contacts_[b.id].push_back(a.id);
+    }
+}
+
+bool RadiositySolver::isCovered(PolygonId polygon, const Vec3& x) const {
+  for (PolygonId partner : contacts_[polygon])
+    for (int root : polygonRoots_[partner])
+      if (elements_[root].insideness(x) > 0) return true;
+  return false;
+}
+
+bool RadiositySolver::isVisible(PolygonId p, const Vec3& x, PolygonId q, const Vec3& y) const {
+  return !isCovered(p, x) && !isCovered(q, y) && !rays_->isOccluded(x, y);
 }
 
 NodeRadiometry& RadiositySolver::radiometry(NodeRef n) {
@@ -156,28 +189,37 @@ std::vector<NodeRef> RadiositySolver::split(NodeRef n) {
 
 bool RadiositySolver::isBehind(NodeRef n, const Plane& plane) const {
   // Relative slack so that a polygon touching the plane (a wall meeting the floor) counts as
-  // behind it: it can exchange no energy with the plane's front side.
+  // behind it: it can exchange no energy with the plane's front side. Except what lies in the
+  // plane facing back at it: surfaces in contact face to face exchange all their energy where
+  // they overlap (the limit as the gap closes), so such a node is not behind.
   const double slack = 1e-9 * std::max(1.0, scene_.bounds.diagonalLength());
+  bool inPlane = true;
   if (n.isCluster()) {
     const Box3 b = clusters_[n.index].bounds;
+    bool touches = false;
     for (int corner = 0; corner < 8; ++corner) {
       const Vec3 p{corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y,
                    corner & 4 ? b.max.z : b.min.z};
-      if (plane.signedDistance(p) > slack) return false;
+      const double d = plane.signedDistance(p);
+      if (d > slack) return false;
+      touches = touches || d >= -slack;
     }
-    return true;
+    return !touches;  // a cluster touching the plane may hold elements lying in it facing back
   }
   const Element& e = elements_[n.index];
-  for (int i = 0; i < e.vertexCount; ++i)
-    if (plane.signedDistance(e.vertices[i]) > slack) return false;
-  return true;
+  for (int i = 0; i < e.vertexCount; ++i) {
+    const double d = plane.signedDistance(e.vertices[i]);
+    if (d > slack) return false;
+    inPlane = inPlane && d >= -slack;
+  }
+  return !(inPlane && dot(e.normal, plane.normal) < -1 + 1e-9);
 }
 
 RadiositySolver::SurfacePoint RadiositySolver::samplePoint(NodeRef n, double u, double v,
                                                            double w) const {
   if (!n.isCluster()) {
     const Element& e = elements_[n.index];
-    return {e.samplePoint(u, v), e.normal};
+    return {e.samplePoint(u, v), e.normal, e.polygon};
   }
   // A root element chosen in proportion to its area, then a uniform point on it.
   const Cluster& c = clusters_[n.index];
@@ -187,7 +229,7 @@ RadiositySolver::SurfacePoint RadiositySolver::samplePoint(NodeRef n, double u, 
                              rootCumulativeArea_.begin() + c.elementEnd + 1, target);
   const int k = std::min(int(it - rootCumulativeArea_.begin()) - 1, c.elementEnd - 1);
   const Element& e = elements_[rootOrder_[k]];
-  return {e.samplePoint(u, v), e.normal};
+  return {e.samplePoint(u, v), e.normal, e.polygon};
 }
 
 Rgb RadiositySolver::emittedPower() const {

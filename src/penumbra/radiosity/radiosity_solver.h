@@ -131,6 +131,9 @@ class RadiositySolver {
   int addLink(NodeRef receiver, NodeRef source, bool estimate);
   void estimate(Link& link);
   void refineLink(int link);
+  void replaceLink(int link, const std::vector<std::pair<NodeRef, NodeRef>>& pairs);
+  bool refineReceivers();
+  double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal) const;
   bool refineActiveLinks();
   void solve();
   void pushPull(NodeRef node, const Rgb& direct, const Rgb& indirect, double& largestChange);
@@ -150,19 +153,28 @@ class RadiositySolver {
   struct SurfacePoint {
     Vec3 position;
     Vec3 normal;
+    PolygonId polygon = 0;
   };
   SurfacePoint samplePoint(NodeRef n, double u, double v, double w) const;
+  void findContacts();
+  // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it? Such a point
+  // sees only that polygon (the ray caster, which ignores polygons through a ray's ends, would
+  // let it see through).
+  bool isCovered(PolygonId polygon, const Vec3& x) const;
+  // Does light pass between x (on polygon p) and y (on polygon q)?
+  bool isVisible(PolygonId p, const Vec3& x, PolygonId q, const Vec3& y) const;
 
   RadiosityOptions options_;
   PosedScene scene_;
   std::unique_ptr<UniformGrid> grid_;
   std::unique_ptr<RayCaster> rays_;
   std::vector<Element> elements_;
-  std::vector<std::vector<int>> polygonRoots_;  // root elements of each polygon
-  std::vector<int> rootOrder_;                  // root elements in cluster order
-  std::vector<double> rootCumulativeArea_;      // prefix sums of areas over rootOrder_
-  std::vector<Cluster> clusters_;               // [0] is the root
-  std::vector<Link> links_;                     // [0] is the root self-link
+  std::vector<std::vector<int>> polygonRoots_;    // root elements of each polygon
+  std::vector<std::vector<PolygonId>> contacts_;  // polygons in face-to-face contact with each
+  std::vector<int> rootOrder_;                    // root elements in cluster order
+  std::vector<double> rootCumulativeArea_;        // prefix sums of areas over rootOrder_
+  std::vector<Cluster> clusters_;                 // [0] is the root
+  std::vector<Link> links_;                       // [0] is the root self-link
   std::vector<Shaft> shafts_;
   std::vector<std::array<std::uint32_t, 4>> leafVertices_;  // mesh vertices of each leaf
   RadiosityMesh mesh_;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <numbers>
 #include <unordered_map>
@@ -32,15 +33,16 @@ int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate) 
   return int(links_.size()) - 1;
 }
 
-// A BF oracle on the error rather than on the transfer itself: refine while B_max(source) x (the
-// form factor's variation over the receiver, plus the whole transfer when the source is partly
-// hidden) — a bound on the irradiance error of the link anywhere on the receiver — exceeds
-// tolerance x the largest emitted exitance. The bound is in irradiance, not in power, because a
-// power bound lets small receivers keep large pointwise errors (and the furnace test sees them).
-// Constant-element gathering is exact where the form factor is constant and the source fully
-// visible, so those links need not be split however much power they carry; a cluster end has
-// unknown variation, so its whole transfer counts. Clusters whose boxes overlap cannot be linked as
-// wholes (their mutual form factor is meaningless), so such links are always refined.
+// The link oracle, a BF oracle on power (Hanrahan, Salzman & Aupperle 1991): refine while
+// B_max(source) x A_receiver x (what the link cannot represent) exceeds tolerance x the emitted
+// power of the scene. What a link cannot represent, each counted as the whole unoccluded
+// transfer: visibility when the source is partly hidden (it varies over the receiver), and
+// orientation when the receiver is a cluster (gathering gives all its surfaces the same
+// irradiance). The variation of an
+// element receiver's form factor is left to the receiver oracle (refineReceivers), which sees
+// the sum over the receiver's links, where variations of links to sources on different sides
+// cancel. Clusters whose boxes overlap cannot be linked as wholes (their mutual form factor is
+// meaningless), so such links are always refined.
 void RadiositySolver::refineLink(int index) {
   const NodeRef r = links_[index].receiver, s = links_[index].source;
   const bool selfLink = r == s;
@@ -51,9 +53,9 @@ void RadiositySolver::refineLink(int index) {
   if (!overlapping) {
     const Link& link = links_[index];
     const bool partlyVisible = link.visibility > 0 && link.visibility < 1;
-    const double error =
-        (double(link.transferSpread) + (partlyVisible ? double(link.unoccludedTransfer) : 0)) *
-        radiometry(s).maxRadiosity * area(r);
+    const double unrepresented =
+        ((partlyVisible ? 1 : 0) + (r.isCluster() ? 1 : 0)) * double(link.unoccludedTransfer);
+    const double error = unrepresented * area(r) * radiometry(s).maxRadiosity;
     if (!(error > options_.tolerance * totalPower_)) return;
   }
   std::vector<std::pair<NodeRef, NodeRef>> pairs;
@@ -70,6 +72,13 @@ void RadiositySolver::refineLink(int index) {
     else
       for (NodeRef b : split(s)) pairs.push_back({r, b});
   }
+  replaceLink(index, pairs);
+}
+
+// The link becomes passive; its children are the pairs that can exchange energy, each estimated
+// (or left for refinement when a cluster end overlaps the other end) and refined in turn.
+void RadiositySolver::replaceLink(int index,
+                                  const std::vector<std::pair<NodeRef, NodeRef>>& pairs) {
   std::vector<int> children;
   for (const auto& [a, b] : pairs) {
     const bool bothElements = !a.isCluster() && !b.isCluster();
@@ -101,6 +110,69 @@ void RadiositySolver::refineLink(int index) {
   links_[index].active = false;
   links_[index].children = children;
   for (int child : children) refineLink(child);
+}
+
+// Receiver refinement. Gathering hands every part of a receiver the mean of what its links bring,
+// so the irradiance error on the receiver is the variation over it of the sum of its links'
+// point-to-source transfers times B, not the sum of each link's variation: links to sources on
+// all sides vary in opposite ways and cancel (a receiver linked to everything it sees at one
+// level gets exactly the right irradiance in a furnace, however much each link varies), while
+// links at mixed levels leave a variation that no single link shows. So, per element receiver:
+// the spread of Σ_links F(x, source) V B_source over its 16 grandchild centres, times its area,
+// against the same power threshold as links; where it is exceeded, all the receiver's links
+// move down to its children.
+bool RadiositySolver::refineReceivers() {
+  std::vector<std::vector<int>> byReceiver(elements_.size());
+  std::vector<int> pending;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (links_[i].active && !links_[i].receiver.isCluster()) {
+      const int p = links_[i].receiver.index;
+      if (byReceiver[p].empty()) pending.push_back(p);
+      byReceiver[p].push_back(int(i));
+    }
+  bool refined = false;
+  const double threshold = options_.tolerance * totalPower_;
+  while (!pending.empty()) {
+    const int p = pending.back();
+    pending.pop_back();
+    if (byReceiver[p].empty() || !canSplit({NodeRef::kElement, p})) continue;
+    const Element receiver = elements_[p];
+    std::array<double, 16> sum{};
+    int k = 0;
+    for (const auto& loop : receiver.childVertices()) {
+      Element child;
+      child.vertices = loop;
+      child.vertexCount = receiver.vertexCount;
+      for (const auto& subLoop : child.childVertices()) {
+        Vec3 x{0, 0, 0};
+        for (int i = 0; i < receiver.vertexCount; ++i) x += subLoop[i];
+        x = x / double(receiver.vertexCount);
+        for (int index : byReceiver[p])
+          sum[k] += pointTransfer(links_[index], x, receiver.normal) *
+                    radiometry(links_[index].source).radiosity.maxComponent();
+        ++k;
+      }
+    }
+    const auto [lowest, highest] = std::minmax_element(sum.begin(), sum.end());
+    if (!((*highest - *lowest) * receiver.area > threshold)) continue;
+    refined = true;
+    const std::vector<NodeRef> children = split({NodeRef::kElement, p});
+    const size_t firstNew = links_.size();
+    for (int index : byReceiver[p]) {
+      std::vector<std::pair<NodeRef, NodeRef>> pairs;
+      for (NodeRef c : children) pairs.push_back({c, links_[index].source});
+      replaceLink(index, pairs);
+    }
+    byReceiver[p].clear();
+    byReceiver.resize(elements_.size());
+    for (size_t i = firstNew; i < links_.size(); ++i)
+      if (links_[i].active && !links_[i].receiver.isCluster()) {
+        const int q = links_[i].receiver.index;
+        if (std::find(pending.begin(), pending.end(), q) == pending.end()) pending.push_back(q);
+        byReceiver[q].push_back(int(i));
+      }
+  }
+  return refined;
 }
 
 bool RadiositySolver::refineActiveLinks() {
