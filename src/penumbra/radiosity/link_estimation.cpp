@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
+#include <optional>
 #include <unordered_map>
 
 #include "penumbra/base/check.h"
@@ -145,6 +146,70 @@ struct FormFactorQuadrature {
   }
 };
 
+// Arvo 1995, "Stratified sampling of spherical triangles": a direction uniform in the solid angle
+// of the triangle (a, b, c) seen from x, from two numbers in [0, 1). Returns nothing when the
+// triangle is degenerate seen from x.
+std::optional<Vec3> sampleSphericalTriangle(const Vec3& x, const Vec3& a, const Vec3& b,
+                                            const Vec3& c, double u1, double u2,
+                                            double* solidAngle = nullptr) {
+  const Vec3 A = normalize(a - x), B = normalize(b - x), C = normalize(c - x);
+  const Vec3 nab = cross(A, B), nac = cross(A, C), nbc = cross(B, C);
+  if (length(nab) < 1e-12 || length(nac) < 1e-12 || length(nbc) < 1e-12) return std::nullopt;
+  const auto angle = [](const Vec3& p, const Vec3& q) {
+    return std::acos(std::clamp(dot(normalize(p), normalize(q)), -1.0, 1.0));
+  };
+  const double alpha = angle(nab, nac), beta = angle(-nab, nbc), gamma = angle(-nac, -nbc);
+  const double area = alpha + beta + gamma - std::numbers::pi;
+  if (solidAngle) *solidAngle = area;
+  if (!(area > 1e-12)) return std::nullopt;
+  const double cosC = dot(A, B);
+  const double areaHat = u1 * area;
+  const double s = std::sin(areaHat - alpha), t = std::cos(areaHat - alpha);
+  const double uu = t - std::cos(alpha), vv = s + std::sin(alpha) * cosC;
+  const double q =
+      std::clamp(((vv * t - uu * s) * std::cos(alpha) - vv) / ((vv * s + uu * t) * std::sin(alpha)),
+                 -1.0, 1.0);
+  const Vec3 cPerp = C - A * dot(C, A);
+  if (length(cPerp) < 1e-12) return std::nullopt;
+  const Vec3 cHat = A * q + normalize(cPerp) * std::sqrt(std::max(0.0, 1 - q * q));
+  const double z = 1 - u2 * (1 - dot(cHat, B));
+  const Vec3 hPerp = cHat - B * dot(cHat, B);
+  if (length(hPerp) < 1e-12) return B;
+  return normalize(B * z + normalize(hPerp) * std::sqrt(std::max(0.0, 1 - z * z)));
+}
+
+// A point of element e seen from x (normal n), uniform in the solid angle of the part of e in
+// front of x (so the parts of a large source near x are sampled as much as they matter), or
+// uniform in area when that part is degenerate seen from x.
+Vec3 sampleSeenFrom(const Vec3& x, const Vec3& n, const Element& e, double u1, double u2) {
+  const Polygon3 front = clipByPlane(loopOf(e), Plane::fromPointNormal(x, n));
+  const int triangles = int(front.size()) - 2;
+  if (triangles >= 1) {
+    std::array<double, 8> omega{};
+    double total = 0;
+    const int count = std::min(triangles, int(omega.size()));
+    for (int t = 0; t < count; ++t) {
+      sampleSphericalTriangle(x, front[0], front[t + 1], front[t + 2], 0, 0, &omega[t]);
+      if (!(omega[t] > 0) || !std::isfinite(omega[t])) omega[t] = 0;
+      total += omega[t];
+    }
+    if (total > 1e-12) {
+      double w = u1 * total;
+      int t = 0;
+      while (t + 1 < count && w >= omega[t]) w -= omega[t++];
+      const double v1 = std::clamp(w / std::max(omega[t], 1e-300), 0.0, 1.0 - 1e-12);
+      if (const auto d = sampleSphericalTriangle(x, front[0], front[t + 1], front[t + 2], v1, u2)) {
+        const double denominator = dot(e.normal, *d);
+        if (denominator < 0) {
+          const Vec3 y = x + *d * (dot(e.normal, e.vertices[0] - x) / denominator);
+          if (std::isfinite(y.x) && std::isfinite(y.y) && std::isfinite(y.z)) return y;
+        }
+      }
+    }
+  }
+  return e.samplePoint(u1, u2);
+}
+
 }  // namespace
 
 void RadiositySolver::estimate(Link& link) {
@@ -184,15 +249,11 @@ void RadiositySolver::estimate(Link& link) {
       stratum(i, u, v);
       const Vec3 x = re.samplePoint(u, v);
       stratum(order[i], u, v);
-      const Vec3 y = se.samplePoint(u, v);
-      // Self-normalised, weighted by the point-to-point kernel: pairs that exchange more count
-      // more (the fraction of unoccluded pairs is biased low where the parts of the source near
-      // the receiver are less often hidden than the far ones, as is usual).
-      const Vec3 d = y - x;
-      const double r2 = dot(d, d);
-      const double weight =
-          r2 > 0 ? std::max(0.0, dot(re.normal, d)) * std::max(0.0, -dot(se.normal, d)) / (r2 * r2)
-                 : 0.0;
+      // y uniform in the solid angle of the source seen from x, and x weighted by its form
+      // factor to the source: the visible fraction of the transfer, not of the pairs of points
+      // (uniform pairs undersample the parts of the source that matter most, nearby ones).
+      const Vec3 y = sampleSeenFrom(x, re.normal, se, u, v);
+      const double weight = pointToElement(x, re.normal, se);
       weightSum += weight;
       if (isVisible(re.polygon, x, se.polygon, y)) visibleWeight += weight;
     }
@@ -225,7 +286,8 @@ void RadiositySolver::estimate(Link& link) {
     const size_t k = std::min<size_t>(
         std::upper_bound(cumulative.begin() + 1, cumulative.end(), target) - cumulative.begin() - 1,
         sources.size() - 1);
-    const Vec3 y = elements_[sources[k]].samplePoint(rng.uniform(), rng.uniform());
+    const Vec3 y =
+        sampleSeenFrom(x.position, x.normal, elements_[sources[k]], rng.uniform(), rng.uniform());
     ++stats_.visibilityRays;
     if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
   }
