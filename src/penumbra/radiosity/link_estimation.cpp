@@ -210,6 +210,23 @@ Vec3 sampleSeenFrom(const Vec3& x, const Vec3& n, const Element& e, double u1, d
   return e.samplePoint(u1, u2);
 }
 
+// Largest minus smallest form factor from the source's 16 grandchild centres to the receiver.
+double sourceSideSpread(const Element& source, const Element& receiver) {
+  double lowest = 1e300, highest = 0;
+  for (const auto& loop : source.childVertices()) {
+    Element child;
+    child.vertices = loop;
+    child.vertexCount = source.vertexCount;
+    for (const auto& subLoop : child.childVertices()) {
+      const double f =
+          pointToElement(vertexMean(subLoop, source.vertexCount), source.normal, receiver);
+      lowest = std::min(lowest, f);
+      highest = std::max(highest, f);
+    }
+  }
+  return highest - lowest;
+}
+
 }  // namespace
 
 void RadiositySolver::estimate(Link& link) {
@@ -228,6 +245,7 @@ void RadiositySolver::estimate(Link& link) {
     const double transfer = quadrature.mean(re.vertices, quadrature.at(re.centroid()), 0);
     link.unoccludedTransfer = float(transfer);
     link.transferSpread = float(quadrature.highest - quadrature.lowest);
+    link.sourceSpread = float(sourceSideSpread(se, re));
     if (link.unoccludedTransfer <= 0) {
       link.visibility = 0;
       return;
@@ -296,6 +314,7 @@ void RadiositySolver::estimate(Link& link) {
   // cluster (its surfaces face different ways: gathering gives them all the mean).
   link.transferSpread = r.isCluster() ? link.unoccludedTransfer : float(highest - lowest);
   link.visibility = unoccluded > 0 ? float(visible / unoccluded) : 0.f;
+  link.sourceSpread = float(link.unoccludedTransfer * area(r) / area(s));
 }
 
 }  // namespace penumbra

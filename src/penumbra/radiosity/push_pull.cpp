@@ -25,6 +25,7 @@ void RadiositySolver::pullEmission(NodeRef node) {
     m.radiosity = m.emission;
     m.reflected = Rgb{};
     m.maxRadiosity = m.emission.maxComponent();
+    m.minRadiosity = std::min({m.emission.r, m.emission.g, m.emission.b});
     return;
   }
   const std::vector<NodeRef> children =
@@ -32,17 +33,19 @@ void RadiositySolver::pullEmission(NodeRef node) {
           ? clusters_[node.index].children
           : std::vector<NodeRef>{{NodeRef::kElement, elements_[node.index].firstChild}};
   Rgb emission;
-  double maxRadiosity = 0;
+  double maxRadiosity = 0, minRadiosity = 1e300;
   for (NodeRef c : children) {
     pullEmission(c);
     emission += radiometry(c).emission * area(c);
     maxRadiosity = std::max(maxRadiosity, radiometry(c).maxRadiosity);
+    minRadiosity = std::min(minRadiosity, radiometry(c).minRadiosity);
   }
   NodeRadiometry& pulled = radiometry(node);
   pulled.emission = emission / area(node);
   pulled.radiosity = pulled.emission;
   pulled.reflected = Rgb{};
   pulled.maxRadiosity = maxRadiosity;
+  pulled.minRadiosity = minRadiosity;
 }
 
 // Push irradiance down to the leaves, compute B there, pull area means back up (Hanrahan et al.).
@@ -66,16 +69,18 @@ void RadiositySolver::pushPull(NodeRef node, const Rgb& direct, const Rgb& indir
     m.radiosity = b;
     m.reflected = b - m.emission;
     m.maxRadiosity = b.maxComponent();
+    m.minRadiosity = std::min({b.r, b.g, b.b});
     return;
   }
   Rgb b, reflected;
-  double maxRadiosity = 0;
+  double maxRadiosity = 0, minRadiosity = 1e300;
   const auto visit = [&](NodeRef c) {
     pushPull(c, eDirect, eIndirect, largestChange);
     const NodeRadiometry& cm = radiometry(c);
     b += cm.radiosity * area(c);
     reflected += cm.reflected * area(c);
     maxRadiosity = std::max(maxRadiosity, cm.maxRadiosity);
+    minRadiosity = std::min(minRadiosity, cm.minRadiosity);
   };
   if (node.isCluster()) {
     const size_t count = clusters_[node.index].children.size();
@@ -88,6 +93,7 @@ void RadiositySolver::pushPull(NodeRef node, const Rgb& direct, const Rgb& indir
   m.radiosity = b / area(node);
   m.reflected = reflected / area(node);
   m.maxRadiosity = maxRadiosity;
+  m.minRadiosity = minRadiosity;
 }
 
 }  // namespace penumbra

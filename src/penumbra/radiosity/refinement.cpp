@@ -55,7 +55,10 @@ void RadiositySolver::refineLink(int index) {
     const bool partlyVisible = link.visibility > 0 && link.visibility < 1;
     const double unrepresented =
         ((partlyVisible ? 1 : 0) + (r.isCluster() ? 1 : 0)) * double(link.unoccludedTransfer);
-    const double error = unrepresented * area(r) * radiometry(s).maxRadiosity;
+    const NodeRadiometry& b = radiometry(s);
+    const double error =
+        std::max(unrepresented * area(r) * b.maxRadiosity,
+                 double(link.sourceSpread) * area(s) * (b.maxRadiosity - b.minRadiosity));
     if (!(error > options_.tolerance * totalPower_)) return;
   }
   std::vector<std::pair<NodeRef, NodeRef>> pairs;
@@ -105,6 +108,7 @@ void RadiositySolver::replaceLink(int index,
     links_[child].unoccludedTransfer = probe.unoccludedTransfer;
     links_[child].visibility = probe.visibility;
     links_[child].transferSpread = probe.transferSpread;
+    links_[child].sourceSpread = probe.sourceSpread;
     children.push_back(child);
   }
   links_[index].active = false;
