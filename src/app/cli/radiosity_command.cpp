@@ -32,6 +32,7 @@ nlohmann::json statsJson(const RadiosityStats& s) {
           {"leaves", s.leaves},
           {"clusters", s.clusters},
           {"shafts", s.shafts},
+          {"polygon_shafts", s.polygonShafts},
           {"visibility_rays", s.visibilityRays},
           {"iterations", s.iterations},
           {"residual", s.residual},

@@ -269,6 +269,8 @@ void RadiositySolver::computeStats() {
     }
   }
   stats_.shafts = (long long)shafts_.size();
+  stats_.polygonShafts = 0;
+  for (const Shaft& shaft : shafts_) stats_.polygonShafts += shaft.isPolygonShaft() ? 1 : 0;
   stats_.shaftBytes = shafts_.capacity() * sizeof(Shaft);
   stats_.elementBytes =
       elements_.capacity() * sizeof(Element) + leafVertices_.capacity() * sizeof(leafVertices_[0]) +

@@ -52,6 +52,7 @@ struct RadiosityStats {
   long long activeLinks = 0;
   long long passiveLinks = 0;
   long long shafts = 0;
+  long long polygonShafts = 0;  // element-to-element links; the others are box-to-box
   long long visibilityRays = 0;
   int iterations = 0;   // gathering iterations of the last solve
   double residual = 0;  // last largest relative change of B

@@ -27,7 +27,14 @@ int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate) 
   if (doEstimate) estimate(link);
   if (options_.storeShafts) {
     link.shaft = int(shafts_.size());
-    shafts_.emplace_back(bounds(receiver), bounds(source));
+    if (!receiver.isCluster() && !source.isCluster()) {
+      const Element& r = elements_[receiver.index];
+      const Element& s = elements_[source.index];
+      shafts_.emplace_back(Polygon3(r.vertices.begin(), r.vertices.begin() + r.vertexCount),
+                           Polygon3(s.vertices.begin(), s.vertices.begin() + s.vertexCount));
+    } else {
+      shafts_.emplace_back(bounds(receiver), bounds(source));
+    }
   }
   links_.push_back(std::move(link));
   return int(links_.size()) - 1;
