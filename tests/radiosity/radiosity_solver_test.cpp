@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -228,33 +229,70 @@ TEST(RadiositySolver, KeepsPassiveLinksAndShafts) {
 }
 
 // Direct irradiance at element vertices against the exact reference, tolerance by tolerance.
+// The direct part (emission carried once over the links) at element vertices against the exact
+// reference irradiance (visible part of the lamp by polygon clipping, Lambert's formula), tolerance
+// by tolerance: the mean error over the vertices and the largest, both relative to the mean exact
+// irradiance (pointwise relative errors are unbounded in the umbra). The largest error does not
+// shrink: the exact irradiance jumps where the boxes touch the floor (a vertex on that edge is
+// half in the dark), and vertex values average the leaves around them; the 95th percentile does.
 TEST(RadiositySolver, DirectPartConvergesToExactReference) {
   const Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
   const PosedScene posed = poseAt(scene, 0);
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);
-  std::printf("tolerance  vertices  mean|err|/meanE\n");
-  std::vector<double> errors;
-  for (double tolerance : {1e-2, 1e-3, 1e-4}) {
+  std::printf("tolerance     links  vertices  mean|err|/meanE  p95|err|/meanE  max|err|/meanE\n");
+  std::vector<double> meanErrors, maxErrors, p95Errors;
+  for (double tolerance : {1e-2, 1e-3, 3e-4}) {
     RadiositySolver solver(withTolerance(tolerance));
     solver.build(posed);
     const RadiosityMesh& mesh = solver.mesh();
-    const size_t stride = std::max<size_t>(1, mesh.positions.size() / 300);
-    double errorSum = 0, exactSum = 0;
+    const size_t stride = std::max<size_t>(1, mesh.positions.size() / 400);
+    double errorSum = 0, exactSum = 0, largest = 0;
     int count = 0;
+    std::vector<double> vertexErrors;
     for (size_t v = 0; v < mesh.positions.size(); v += stride) {
       if (posed.polygons[mesh.polygons[v]].isLight) continue;
+      ++count;
       const double exact =
           reference.irradiance(mesh.positions[v], mesh.normals[v], mesh.polygons[v]).average();
-      errorSum += std::abs(mesh.directIrradiance[v].average() - exact);
+      const double error = std::abs(mesh.directIrradiance[v].average() - exact);
+      errorSum += error;
       exactSum += exact;
-      ++count;
+      largest = std::max(largest, error);
+      vertexErrors.push_back(error);
     }
-    errors.push_back(errorSum / exactSum);
-    std::printf("%9.0e %9zu %12.4f\n", tolerance, mesh.positions.size(), errors.back());
+    meanErrors.push_back(errorSum / exactSum);
+    maxErrors.push_back(largest / (exactSum / count));
+    std::sort(vertexErrors.begin(), vertexErrors.end());
+    p95Errors.push_back(vertexErrors[vertexErrors.size() * 95 / 100] / (exactSum / count));
+    std::printf("%9.0e %9lld %9zu %16.4f %15.4f %15.4f\n", tolerance, solver.stats().links,
+                mesh.positions.size(), meanErrors.back(), p95Errors.back(), maxErrors.back());
   }
-  EXPECT_LT(errors.back(), errors.front());
-  EXPECT_LT(errors.back(), 0.15);
+  for (size_t k = 1; k < meanErrors.size(); ++k) EXPECT_LT(meanErrors[k], meanErrors[k - 1]);
+  EXPECT_LT(p95Errors.back(), p95Errors.front());
+  EXPECT_LT(meanErrors.back(), 0.10);
+}
+
+// Direct and indirect are separate sums: with nothing reflecting, the indirect part is exactly 0
+// and the direct part is unchanged by the reflectances (it depends on emission only).
+TEST(RadiositySolver, DirectPartIsIndependentOfReflection) {
+  Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
+  RadiositySolver reflecting(withTolerance(1e-2));
+  reflecting.build(scene, 0);
+  for (Material& m : scene.materials) m.reflectance = Rgb::gray(0);
+  RadiositySolver black(withTolerance(1e-2));
+  black.build(scene, 0);
+  double directReflecting = 0, directBlack = 0;
+  for (const Element& e : black.elements())
+    if (e.isLeaf()) {
+      EXPECT_EQ(e.radiometry.irradianceIndirect, Rgb{});
+      directBlack += e.radiometry.irradianceDirect.average() * e.area;
+    }
+  for (const Element& e : reflecting.elements())
+    if (e.isLeaf()) directReflecting += e.radiometry.irradianceDirect.average() * e.area;
+  // The power arriving directly is the same; the meshes differ (the oracle weighs reflected light),
+  // so only to the refinement's accuracy: 1%.
+  EXPECT_NEAR(directReflecting, directBlack, 0.01 * directBlack);
 }
 
 TEST(RadiositySolver, IrradianceAtPointsSplitsDirectAndIndirect) {
