@@ -30,7 +30,6 @@
 
 #include "penumbra/base/check.h"
 #include "penumbra/geometry/triangulation.h"
-#include "penumbra/lighting/form_factor.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/receiver_locator.h"
 #include "penumbra/spatial/uniform_grid.h"
@@ -67,12 +66,44 @@ Polygon3 loopOf(const Element& e) {
   return Polygon3(e.vertices.begin(), e.vertices.begin() + e.vertexCount);
 }
 
-// Form factor from the point x (normal n) to the front side of element s.
+// Form factor from the point x (normal n) to the front side of element s: s clipped to x's front
+// half-space (Sutherland-Hodgman, on the stack: this is the solver's innermost loop), then
+// Lambert's formula as in lighting/form_factor.h.
 double pointToElement(const Vec3& x, const Vec3& n, const Element& s) {
   if (dot(s.normal, x - s.vertices[0]) <= 0) return 0;  // x behind the source: it emits forward
-  const Polygon3 clipped = clipByPlane(loopOf(s), Plane::fromPointNormal(x, n));
-  if (clipped.size() < 3) return 0;
-  return std::max(0.0, pointToPolygonFormFactor(x, n, clipped));
+  std::array<double, 4> side{};
+  bool allInFront = true, allBehind = true;
+  for (int i = 0; i < s.vertexCount; ++i) {
+    side[i] = dot(n, s.vertices[i] - x);
+    allInFront = allInFront && side[i] >= 0;
+    allBehind = allBehind && side[i] <= 0;
+  }
+  if (allBehind) return 0;
+  std::array<Vec3, 5> loop{};
+  int count = 0;
+  if (allInFront) {
+    for (int i = 0; i < s.vertexCount; ++i) loop[count++] = s.vertices[i] - x;
+  } else {
+    for (int i = 0; i < s.vertexCount; ++i) {
+      const int j = (i + 1) % s.vertexCount;
+      if (side[i] >= 0) loop[count++] = s.vertices[i] - x;
+      if ((side[i] > 0 && side[j] < 0) || (side[i] < 0 && side[j] > 0)) {
+        const double t = side[i] / (side[i] - side[j]);
+        loop[count++] = s.vertices[i] + (s.vertices[j] - s.vertices[i]) * t - x;
+      }
+    }
+    if (count < 3) return 0;
+  }
+  double sum = 0;
+  for (int i = 0; i < count; ++i) {
+    const Vec3& a = loop[i];
+    const Vec3& b = loop[(i + 1) % count];
+    const Vec3 c = cross(b, a);
+    const double sinTimesLengths = length(c);
+    if (sinTimesLengths == 0) continue;
+    sum += std::atan2(sinTimesLengths, dot(a, b)) * dot(n, c) / sinTimesLengths;
+  }
+  return std::max(0.0, sum / (2 * std::numbers::pi));
 }
 
 // Relative slack for "on the plane": a polygon touching a plane counts as lying in it.
@@ -323,7 +354,8 @@ namespace penumbra {
 
 // The link's transfer seen from one point of its receiver: the exact unoccluded point form factor
 // to a source element (to the root elements of a source cluster) times the link's visibility.
-double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal) const {
+double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
+                                      bool covered) const {
   const NodeRef s = link.source;
   double f = 0;
   if (!s.isCluster()) {
@@ -331,12 +363,10 @@ double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec
     if (!link.receiver.isCluster() &&
         contactShare(elements_[link.receiver.index], se, contactSlack(scene_)))
       return se.insideness(x) >= 0 ? 1 : 0;  // in contact: the source covers x or not
-    if (!link.receiver.isCluster() && isCovered(elements_[link.receiver.index].polygon, x))
-      return 0;  // x sees only what covers it
+    if (covered) return 0;                   // x sees only what covers it
     f = pointToElement(x, normal, se);
   } else {
-    if (!link.receiver.isCluster() && isCovered(elements_[link.receiver.index].polygon, x))
-      return 0;
+    if (covered) return 0;
     const Cluster& c = clusters_[s.index];
     for (int i = c.elementBegin; i < c.elementEnd; ++i)
       f += pointToElement(x, normal, elements_[rootOrder_[i]]);

@@ -158,8 +158,9 @@ bool RadiositySolver::refineReceivers() {
         Vec3 x{0, 0, 0};
         for (int i = 0; i < receiver.vertexCount; ++i) x += subLoop[i];
         x = x / double(receiver.vertexCount);
+        const bool covered = isCovered(receiver.polygon, x);
         for (int index : byReceiver[p])
-          sum[k] += pointTransfer(links_[index], x, receiver.normal) *
+          sum[k] += pointTransfer(links_[index], x, receiver.normal, covered) *
                     radiometry(links_[index].source).radiosity.maxComponent();
         ++k;
       }
