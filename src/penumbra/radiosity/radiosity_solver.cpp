@@ -102,6 +102,7 @@ void RadiositySolver::build(const PosedScene& scene) {
     solve();
     stats_.solveSeconds += elapsedSeconds(solveStart);
   }
+  pointTransfers_ = {};
   buildMesh();
   computeStats();
   stats_.totalSeconds = elapsedSeconds(start);

@@ -183,6 +183,14 @@ class RadiositySolver {
   std::vector<Cluster> clusters_;                 // [0] is the root
   std::vector<Link> links_;                       // [0] is the root self-link
   std::vector<Shaft> shafts_;
+  // The receiver oracle's point transfers of each link at its receiver's 16 grandchild centres,
+  // computed once per link (geometry does not change; B does, between passes). Dropped after
+  // building.
+  struct PointTransfers {
+    std::array<float, 16> values{};
+    bool valid = false;
+  };
+  std::vector<PointTransfers> pointTransfers_;
   std::vector<std::array<std::uint32_t, 4>> leafVertices_;  // mesh vertices of each leaf
   RadiosityMesh mesh_;
   double minArea_ = 0;

@@ -148,22 +148,37 @@ bool RadiositySolver::refineReceivers() {
     pending.pop_back();
     if (byReceiver[p].empty() || !canSplit({NodeRef::kElement, p})) continue;
     const Element receiver = elements_[p];
+    std::array<Vec3, 16> points{};
+    std::array<bool, 16> covered{};
+    bool located = false;
     std::array<double, 16> sum{};
-    int k = 0;
-    for (const auto& loop : receiver.childVertices()) {
-      Element child;
-      child.vertices = loop;
-      child.vertexCount = receiver.vertexCount;
-      for (const auto& subLoop : child.childVertices()) {
-        Vec3 x{0, 0, 0};
-        for (int i = 0; i < receiver.vertexCount; ++i) x += subLoop[i];
-        x = x / double(receiver.vertexCount);
-        const bool covered = isCovered(receiver.polygon, x);
-        for (int index : byReceiver[p])
-          sum[k] += pointTransfer(links_[index], x, receiver.normal, covered) *
-                    radiometry(links_[index].source).radiosity.maxComponent();
-        ++k;
+    for (int index : byReceiver[p]) {
+      if (pointTransfers_.size() < links_.size()) pointTransfers_.resize(links_.size());
+      PointTransfers& cached = pointTransfers_[index];
+      if (!cached.valid) {
+        if (!located) {
+          int k = 0;
+          for (const auto& loop : receiver.childVertices()) {
+            Element child;
+            child.vertices = loop;
+            child.vertexCount = receiver.vertexCount;
+            for (const auto& subLoop : child.childVertices()) {
+              Vec3 x{0, 0, 0};
+              for (int i = 0; i < receiver.vertexCount; ++i) x += subLoop[i];
+              points[k] = x / double(receiver.vertexCount);
+              covered[k] = isCovered(receiver.polygon, points[k]);
+              ++k;
+            }
+          }
+          located = true;
+        }
+        for (int k = 0; k < 16; ++k)
+          cached.values[k] =
+              float(pointTransfer(links_[index], points[k], receiver.normal, covered[k]));
+        cached.valid = true;
       }
+      const double b = radiometry(links_[index].source).radiosity.maxComponent();
+      for (int k = 0; k < 16; ++k) sum[k] += cached.values[k] * b;
     }
     const auto [lowest, highest] = std::minmax_element(sum.begin(), sum.end());
     if (!((*highest - *lowest) * receiver.area > threshold)) continue;
