@@ -3,13 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 #include "support/temp_dir.h"
 
@@ -29,7 +29,8 @@ RunResult runPenumbra(const std::string& arguments) {
   if (!pipe) return result;
   std::array<char, 4096> buffer;
   size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
@@ -102,8 +103,8 @@ TEST(Cli, ExitCodesAndMessages) {
   EXPECT_EQ(badLine.exitCode, 2);
   EXPECT_NE(badLine.output.find("bad.txt:2"), std::string::npos) << badLine.output;
 
-  const RunResult zeroNormal = runPenumbra("probe " + scene + " --points " +
-                                           dir.write("zero.txt", "0 0 0 0 0 0\n"));
+  const RunResult zeroNormal =
+      runPenumbra("probe " + scene + " --points " + dir.write("zero.txt", "0 0 0 0 0 0\n"));
   EXPECT_EQ(zeroNormal.exitCode, 2);
   EXPECT_NE(zeroNormal.output.find("zero.txt:1"), std::string::npos);
 
@@ -152,6 +153,29 @@ TEST(Cli, RenderVolumesWritesAPng) {
   EXPECT_EQ(signature[3], 'G');
   EXPECT_EQ(
       runPenumbra("render " + scene + " --method volumes --light-samples 0 -o " + out).exitCode, 1);
+}
+
+// `radiosity --report`: per-frame statistics with memory per structure (elements, active and
+// passive links, shafts) and the shafts by kind.
+TEST(Cli, RadiosityReportAccountsMemoryPerStructure) {
+  test::TempDir dir;
+  const std::string report = dir.path("report.json");
+  const RunResult r = runPenumbra("radiosity " + std::string(PENUMBRA_SOURCE_DIR) +
+                                  "/scenes/cornell-box/cornell-box.json --frames 0:0 --update full "
+                                  "--tolerance 1e-2 --report " +
+                                  report);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  FILE* file = std::fopen(report.c_str(), "r");
+  ASSERT_NE(file, nullptr);
+  std::string text;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) text.append(buffer.data(), n);
+  std::fclose(file);
+  for (const char* key :
+       {"\"frames\"", "\"seconds\"", "\"peak_memory_bytes\"", "\"links\"", "\"passive_links\"",
+        "\"shafts\"", "\"polygon_shafts\"", "\"memory_bytes\"", "\"elements\"", "\"active_links\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
 }  // namespace
