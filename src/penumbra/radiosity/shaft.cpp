@@ -96,8 +96,9 @@ Shaft::Shaft(const Polygon3& a, const Polygon3& b) {
       if (dot(planes_[k].normal, plane.normal) > 1 - 1e-12 &&
           std::abs(planes_[k].offset - plane.offset) <= tolerance)
         return;  // the same face found through another triple
-    CHECK_LT(int(planeCount_), kMaxPlanes);
-    planes_[planeCount_++] = plane;
+    // A hull has at most 12 faces; rounding may split a face into near-duplicates beyond that.
+    // Dropping a plane only makes the shaft larger, so it stays conservative.
+    if (planeCount_ < kMaxPlanes) planes_[planeCount_++] = plane;
   };
   // Every face of the hull of two convex polygons is a polygon's own plane or contains an edge of
   // one polygon and a vertex of the other (or two parallel edges, found the same way).
