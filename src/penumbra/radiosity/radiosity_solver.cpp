@@ -109,14 +109,25 @@ void RadiositySolver::build(const PosedScene& scene) {
 }
 
 // Pairs of polygons in one plane facing each other with overlapping bounds (a box standing on the
-// floor, a handle on a drawer). Quadratic in the polygon count with a cheap test per pair; a plane
-// hash would do for much larger scenes.
+// floor, a handle on a drawer). Planes are compared in a canonical orientation (first non-zero
+// normal component positive), sorted by offset, so only polygons with nearly equal offsets are
+// paired up.
 void RadiositySolver::findContacts() {
   contacts_.assign(scene_.polygons.size(), {});
   const double slack = 1e-9 * std::max(1.0, scene_.bounds.diagonalLength());
-  for (const WorldPolygon& a : scene_.polygons)
-    for (const WorldPolygon& b : scene_.polygons) {
-      if (b.id <= a.id || dot(a.plane.normal, b.plane.normal) > -1 + 1e-9) continue;
+  const auto canonicalOffset = [](const Plane& plane) {
+    const Vec3& n = plane.normal;
+    const double first = n.x != 0 ? n.x : n.y != 0 ? n.y : n.z;
+    return first > 0 ? plane.offset : -plane.offset;
+  };
+  std::vector<std::pair<double, PolygonId>> order;
+  for (const WorldPolygon& p : scene_.polygons) order.push_back({canonicalOffset(p.plane), p.id});
+  std::sort(order.begin(), order.end());
+  for (size_t i = 0; i < order.size(); ++i)
+    for (size_t j = i + 1; j < order.size() && order[j].first - order[i].first <= 2 * slack; ++j) {
+      const WorldPolygon& a = scene_.polygons[order[i].second];
+      const WorldPolygon& b = scene_.polygons[order[j].second];
+      if (dot(a.plane.normal, b.plane.normal) > -1 + 1e-9) continue;
       if (!a.bounds.expanded(slack).overlaps(b.bounds)) continue;
       bool coplanar = true;
       for (const Vec3& v : b.vertices)
