@@ -3,18 +3,7 @@
 #include "penumbra/radiosity/radiosity_solver.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstring>
-#include <numbers>
-#include <unordered_map>
-
-#include "penumbra/base/check.h"
-#include "penumbra/geometry/triangulation.h"
-#include "penumbra/lighting/form_factor.h"
-#include "penumbra/spatial/ray_caster.h"
-#include "penumbra/spatial/receiver_locator.h"
-#include "penumbra/spatial/uniform_grid.h"
 
 namespace penumbra {
 

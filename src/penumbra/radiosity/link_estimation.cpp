@@ -20,19 +20,14 @@
 #include "penumbra/radiosity/radiosity_solver.h"
 
 #include <algorithm>
-#include <chrono>
+#include <array>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <numbers>
 #include <optional>
-#include <unordered_map>
+#include <vector>
 
-#include "penumbra/base/check.h"
-#include "penumbra/geometry/triangulation.h"
 #include "penumbra/spatial/ray_caster.h"
-#include "penumbra/spatial/receiver_locator.h"
-#include "penumbra/spatial/uniform_grid.h"
 
 namespace penumbra {
 
