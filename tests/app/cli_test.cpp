@@ -11,7 +11,6 @@
 #include <numbers>
 #include <sstream>
 #include <string>
-
 #include <vector>
 
 #include "support/temp_dir.h"
@@ -252,6 +251,29 @@ TEST(Cli, RenderDmWritesAPng) {
   png.read(signature, 4);
   EXPECT_EQ(std::string(signature + 1, 3), "PNG");
   EXPECT_EQ(runPenumbra("render " + scene + " --method raytrace --edges -o " + out).exitCode, 1);
+}
+
+// `radiosity --report`: per-frame statistics with memory per structure (elements, active and
+// passive links, shafts) and the shafts by kind.
+TEST(Cli, RadiosityReportAccountsMemoryPerStructure) {
+  test::TempDir dir;
+  const std::string report = dir.path("report.json");
+  const RunResult r = runPenumbra("radiosity " + std::string(PENUMBRA_SOURCE_DIR) +
+                                  "/scenes/cornell-box/cornell-box.json --frames 0:0 --update full "
+                                  "--tolerance 1e-2 --report " +
+                                  report);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  FILE* file = std::fopen(report.c_str(), "r");
+  ASSERT_NE(file, nullptr);
+  std::string text;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) text.append(buffer.data(), n);
+  std::fclose(file);
+  for (const char* key :
+       {"\"frames\"", "\"seconds\"", "\"peak_memory_bytes\"", "\"links\"", "\"passive_links\"",
+        "\"shafts\"", "\"polygon_shafts\"", "\"memory_bytes\"", "\"elements\"", "\"active_links\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key;
 }
 
 }  // namespace

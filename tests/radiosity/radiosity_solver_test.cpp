@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -9,6 +10,7 @@
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "support/boxes.h"
 #include "support/scene_builder.h"
 
 namespace penumbra {
@@ -85,50 +87,128 @@ TEST(RadiositySolver, PerpendicularSquaresMatchClosedForm) {
   EXPECT_NEAR(solvedFormFactor(floor, wall, 1e-4), expected, 0.01 * expected);
 }
 
-Scene furnace(const std::string& path, double rho) {
-  Scene scene = loadScene(scenePath(path));
+Scene furnace(Scene scene, double rho) {
   for (Material& m : scene.materials) {
     m.emission = Rgb::gray(1);
     m.reflectance = Rgb::gray(rho);
   }
   return scene;
 }
-
-// A closed empty room (the chair room without furniture): every polygon emits M with
-// reflectance ρ, so B = M / (1 − ρ) and the irradiance equals B everywhere.
-Scene emptyRoom(double rho) {
-  Scene scene = furnace("chair-room/chair-room.json", rho);
-  scene.objects.resize(2);  // room-floor, room-walls
-  return scene;
+Scene furnace(const std::string& path, double rho) {
+  return furnace(loadScene(scenePath(path)), rho);
 }
 
+struct FurnaceResult {
+  double meanError = 0;           // |area mean of E − M/(1−ρ)| / (M/(1−ρ))
+  double directError = 0;         // |area mean of the direct part − M| / M
+  double balanceError = 0;        // |absorbed / emitted − 1|
+  double areaWithin1Percent = 0;  // share of the leaf area where E is within 1% of M/(1−ρ)
+  long long links = 0;
+};
+
+// Every polygon emits M = 1 with reflectance ρ in a closed scene: B = M/(1−ρ) and the
+// irradiance equals B everywhere; the direct part (emission carried once) is M, as the form
+// factors from any point sum to 1. Except behind one-sided emitters: the rooms' lamps hang 1 cm
+// below the ceiling, emitting downwards only, so the ceiling above them sees a dark back (and
+// the energy it sends there is lost to the model). That is why the direct part is only asserted
+// in the empty room; the area mean of E and the balance stay within the 1% target.
+FurnaceResult solveFurnace(const Scene& scene, double rho, double tolerance) {
+  RadiositySolver solver(withTolerance(tolerance));
+  solver.build(scene, 0);
+  const double expected = 1 / (1 - rho);
+  double sum = 0, direct = 0, area = 0, within = 0;
+  for (const Element& e : solver.elements())
+    if (e.isLeaf()) {
+      const double irradiance =
+          (e.radiometry.irradianceDirect + e.radiometry.irradianceIndirect).average();
+      sum += irradiance * e.area;
+      direct += e.radiometry.irradianceDirect.average() * e.area;
+      area += e.area;
+      if (std::abs(irradiance - expected) <= 0.01 * expected) within += e.area;
+    }
+  FurnaceResult result;
+  result.meanError = std::abs(sum / area - expected) / expected;
+  result.directError = std::abs(direct / area - 1);
+  result.balanceError =
+      std::abs(solver.absorbedPower().average() / solver.emittedPower().average() - 1);
+  result.areaWithin1Percent = within / area;
+  result.links = solver.stats().links;
+  std::printf(
+      "tolerance %7.0e links %8lld  mean E error %.5f  direct error %.5f  absorbed/emitted "
+      "error %.5f  area within 1%%: %.3f\n",
+      tolerance, result.links, result.meanError, result.directError, result.balanceError,
+      result.areaWithin1Percent);
+  return result;
+}
+
+// A closed empty room (the chair room without furniture): links to all sources at one level
+// cancel their variations, so the receiver oracle leaves few links and the result is exact up to
+// the form factor quadrature.
 TEST(RadiositySolver, FurnaceInEmptyRoom) {
-  const double rho = 0.5, expected = 1 / (1 - rho);
-  std::printf("tolerance   mean E    rel.err\n");
-  double previous = 1;
+  Scene scene = furnace("chair-room/chair-room.json", 0.5);
+  scene.objects.resize(2);  // room-floor, room-walls
   for (double tolerance : {1e-3, 3e-4}) {
-    RadiositySolver solver(withTolerance(tolerance));
-    solver.build(emptyRoom(rho), 0);
-    const double mean = meanIrradiance(solver, 0, 1 << 30);
-    const double error = std::abs(mean - expected) / expected;
-    std::printf("%9.0e %9.5f %9.5f\n", tolerance, mean, error);
-    // The target is 1%; measured 1.6% / 1.3% (the receiver quadrature of pairs sharing an edge
-    // overestimates). 2% records today's level so regressions show; see the issue note.
-    EXPECT_LT(error, 0.02);
-    EXPECT_LE(error, previous);
-    previous = error;
+    const FurnaceResult r = solveFurnace(scene, 0.5, tolerance);
+    // 1e-3: the target; measured below 1e-4 (quadrature of the exact point form factors).
+    EXPECT_LT(r.meanError, 1e-3);
+    EXPECT_LT(r.directError, 1e-3);
+    EXPECT_LT(r.balanceError, 1e-3);
+    EXPECT_GT(r.areaWithin1Percent, 0.99);
   }
 }
 
-TEST(RadiositySolver, EnergyBalanceInClosedRoom) {
-  Scene scene = loadScene(scenePath("chair-room/chair-room.json"));
-  scene.objects.resize(3);  // floor, walls, light
-  RadiositySolver solver(withTolerance(1e-3));
-  solver.build(scene, 0);
-  const Rgb emitted = solver.emittedPower(), absorbed = solver.absorbedPower();
-  std::printf("emitted %.5f absorbed %.5f\n", emitted.r, absorbed.r);
-  EXPECT_NEAR(absorbed.r / emitted.r, 1.0, 0.01);
-  EXPECT_NEAR(absorbed.b / emitted.b, 1.0, 0.01);
+// The chair room (227 polygons): furniture standing on the floor, doors glued on a sideboard,
+// shelves in contact with their sides, partial visibility everywhere. 1% is the target of the
+// issue; the error must shrink as the tolerance does (measured: see the issue note).
+TEST(RadiositySolver, FurnaceInChairRoom) {
+  const Scene scene = furnace("chair-room/chair-room.json", 0.5);
+  const FurnaceResult coarse = solveFurnace(scene, 0.5, 1e-3);
+  const FurnaceResult fine = solveFurnace(scene, 0.5, 3e-4);
+  for (const FurnaceResult& r : {coarse, fine}) {
+    EXPECT_LT(r.meanError, 0.01);
+    EXPECT_LT(r.balanceError, 0.01);
+  }
+  EXPECT_LT(fine.meanError, coarse.meanError);
+  EXPECT_LT(fine.balanceError, coarse.balanceError);
+  EXPECT_GT(fine.links, coarse.links);
+}
+
+// The furnished room (1,300 polygons: desks, drawers with handles, bookshelves 1 cm off the
+// walls, chairs).
+TEST(RadiositySolver, FurnaceInFurnishedRoom) {
+  const FurnaceResult r = solveFurnace(furnace("chair-room/furnished-room.json", 0.5), 0.5, 1e-3);
+  EXPECT_LT(r.meanError, 0.01);
+  EXPECT_LT(r.balanceError, 0.01);
+}
+
+// Energy balance with one lamp: a closed room, a lamp that is a thin closed box 1 cm below the
+// ceiling (only its underside emits, so every surface has a modelled front side), a crate
+// standing on the floor. Emitted power = absorbed power.
+TEST(RadiositySolver, EnergyBalanceWithOneLamp) {
+  test::SceneBuilder builder;
+  builder.addMaterial("white", Rgb{0.7, 0.6, 0.5})
+      .addMaterial("lamp", Rgb::gray(0), Rgb{100, 90, 80})
+      .addMaterial("crate", Rgb{0.3, 0.5, 0.6});
+  test::addRoom(builder, "white", {0, 0, 0}, {4, 3, 5});
+  const auto lamp = test::boxFaces({1.7, 2.97, 2.2}, {2.3, 2.99, 2.8});
+  for (size_t i = 0; i < lamp.size(); ++i)
+    builder.addPolygon(i == 2 ? "lamp" : "white", lamp[i], "lamp");
+  test::addBox(builder, "crate", "crate", {1.0, 0, 1.0}, {2.0, 0.8, 1.8});
+  std::vector<double> errors;
+  for (double tolerance : {1e-3, 3e-4}) {
+    RadiositySolver solver(withTolerance(tolerance));
+    solver.build(builder.pose());
+    const Rgb emitted = solver.emittedPower(), absorbed = solver.absorbedPower();
+    std::printf("tolerance %7.0e links %8lld emitted %.4f absorbed %.4f %.4f %.4f\n", tolerance,
+                solver.stats().links, emitted.r, absorbed.r, absorbed.g, absorbed.b);
+    EXPECT_NEAR(emitted.r, 100 * 0.36, 1e-9);
+    errors.push_back(
+        std::max({std::abs(absorbed.r / emitted.r - 1), std::abs(absorbed.g / emitted.g - 1),
+                  std::abs(absorbed.b / emitted.b - 1)}));
+  }
+  // 1%, the target, at the finer tolerance (measured 1.0% at 1e-3, 0.25% at 3e-4).
+  EXPECT_LT(errors.back(), 0.01);
+  EXPECT_LT(errors.back(), errors.front());
 }
 
 TEST(RadiositySolver, KeepsPassiveLinksAndShafts) {
@@ -149,33 +229,70 @@ TEST(RadiositySolver, KeepsPassiveLinksAndShafts) {
 }
 
 // Direct irradiance at element vertices against the exact reference, tolerance by tolerance.
+// The direct part (emission carried once over the links) at element vertices against the exact
+// reference irradiance (visible part of the lamp by polygon clipping, Lambert's formula), tolerance
+// by tolerance: the mean error over the vertices and the largest, both relative to the mean exact
+// irradiance (pointwise relative errors are unbounded in the umbra). The largest error does not
+// shrink: the exact irradiance jumps where the boxes touch the floor (a vertex on that edge is
+// half in the dark), and vertex values average the leaves around them; the 95th percentile does.
 TEST(RadiositySolver, DirectPartConvergesToExactReference) {
   const Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
   const PosedScene posed = poseAt(scene, 0);
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);
-  std::printf("tolerance  vertices  mean|err|/meanE\n");
-  std::vector<double> errors;
-  for (double tolerance : {1e-2, 1e-3, 1e-4}) {
+  std::printf("tolerance     links  vertices  mean|err|/meanE  p95|err|/meanE  max|err|/meanE\n");
+  std::vector<double> meanErrors, maxErrors, p95Errors;
+  for (double tolerance : {1e-2, 1e-3, 3e-4}) {
     RadiositySolver solver(withTolerance(tolerance));
     solver.build(posed);
     const RadiosityMesh& mesh = solver.mesh();
-    const size_t stride = std::max<size_t>(1, mesh.positions.size() / 300);
-    double errorSum = 0, exactSum = 0;
+    const size_t stride = std::max<size_t>(1, mesh.positions.size() / 400);
+    double errorSum = 0, exactSum = 0, largest = 0;
     int count = 0;
+    std::vector<double> vertexErrors;
     for (size_t v = 0; v < mesh.positions.size(); v += stride) {
       if (posed.polygons[mesh.polygons[v]].isLight) continue;
+      ++count;
       const double exact =
           reference.irradiance(mesh.positions[v], mesh.normals[v], mesh.polygons[v]).average();
-      errorSum += std::abs(mesh.directIrradiance[v].average() - exact);
+      const double error = std::abs(mesh.directIrradiance[v].average() - exact);
+      errorSum += error;
       exactSum += exact;
-      ++count;
+      largest = std::max(largest, error);
+      vertexErrors.push_back(error);
     }
-    errors.push_back(errorSum / exactSum);
-    std::printf("%9.0e %9zu %12.4f\n", tolerance, mesh.positions.size(), errors.back());
+    meanErrors.push_back(errorSum / exactSum);
+    maxErrors.push_back(largest / (exactSum / count));
+    std::sort(vertexErrors.begin(), vertexErrors.end());
+    p95Errors.push_back(vertexErrors[vertexErrors.size() * 95 / 100] / (exactSum / count));
+    std::printf("%9.0e %9lld %9zu %16.4f %15.4f %15.4f\n", tolerance, solver.stats().links,
+                mesh.positions.size(), meanErrors.back(), p95Errors.back(), maxErrors.back());
   }
-  EXPECT_LT(errors.back(), errors.front());
-  EXPECT_LT(errors.back(), 0.15);
+  for (size_t k = 1; k < meanErrors.size(); ++k) EXPECT_LT(meanErrors[k], meanErrors[k - 1]);
+  EXPECT_LT(p95Errors.back(), p95Errors.front());
+  EXPECT_LT(meanErrors.back(), 0.10);
+}
+
+// Direct and indirect are separate sums: with nothing reflecting, the indirect part is exactly 0
+// and the direct part is unchanged by the reflectances (it depends on emission only).
+TEST(RadiositySolver, DirectPartIsIndependentOfReflection) {
+  Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
+  RadiositySolver reflecting(withTolerance(1e-2));
+  reflecting.build(scene, 0);
+  for (Material& m : scene.materials) m.reflectance = Rgb::gray(0);
+  RadiositySolver black(withTolerance(1e-2));
+  black.build(scene, 0);
+  double directReflecting = 0, directBlack = 0;
+  for (const Element& e : black.elements())
+    if (e.isLeaf()) {
+      EXPECT_EQ(e.radiometry.irradianceIndirect, Rgb{});
+      directBlack += e.radiometry.irradianceDirect.average() * e.area;
+    }
+  for (const Element& e : reflecting.elements())
+    if (e.isLeaf()) directReflecting += e.radiometry.irradianceDirect.average() * e.area;
+  // The power arriving directly is the same; the meshes differ (the oracle weighs reflected light),
+  // so only to the refinement's accuracy: 1%.
+  EXPECT_NEAR(directReflecting, directBlack, 0.01 * directBlack);
 }
 
 TEST(RadiositySolver, IrradianceAtPointsSplitsDirectAndIndirect) {

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <random>
+#include <vector>
 
 namespace penumbra {
 namespace {
@@ -62,6 +65,131 @@ TEST(Shaft, CutsOffTheHullCorners) {
   across.extend({2, 2, -1});
   across.extend({3, 3, 2});
   EXPECT_TRUE(shaft.mayIntersect(across));
+}
+
+// A random convex polygon: a triangle or a parallelogram-like convex quad in a random plane.
+Polygon3 randomPolygon(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> position(-5, 5), extent(0.2, 3), unit(-1, 1);
+  const Vec3 centre{position(rng), position(rng), position(rng)};
+  Vec3 n{unit(rng), unit(rng), unit(rng)};
+  if (length(n) < 1e-3) n = {0, 0, 1};
+  n = normalize(n);
+  const Vec3 u = normalize(std::abs(n.x) < 0.9 ? cross(n, {1, 0, 0}) : cross(n, {0, 1, 0}));
+  const Vec3 v = cross(n, u);
+  const double a = extent(rng), b = extent(rng);
+  if (rng() % 2) return {centre, centre + u * a, centre + v * b};
+  const double skew = 0.5 * unit(rng);
+  return {centre, centre + u * a, centre + u * (a + skew) + v * b, centre + u * skew + v * b};
+}
+
+Vec3 pointOn(const Polygon3& p, std::mt19937_64& rng) {
+  // Random convex combination of the vertices: a point of the convex polygon (not uniform).
+  std::uniform_real_distribution<double> t(0, 1);
+  double weights[4], sum = 0;
+  for (size_t i = 0; i < p.size(); ++i) sum += weights[i] = -std::log(1 - t(rng));
+  Vec3 x{0, 0, 0};
+  for (size_t i = 0; i < p.size(); ++i) x += p[i] * (weights[i] / sum);
+  return x;
+}
+
+// Slab test: does the segment pq meet the box?
+bool segmentHitsBox(const Vec3& p, const Vec3& q, const Box3& box) {
+  double t0 = 0, t1 = 1;
+  const double o[3] = {p.x, p.y, p.z}, d[3] = {q.x - p.x, q.y - p.y, q.z - p.z};
+  const double lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0) {
+      if (o[k] < lo[k] || o[k] > hi[k]) return false;
+      continue;
+    }
+    double a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// Polygon-to-polygon shafts against a brute-force oracle: segments between random points of the
+// two polygons. A box that some segment meets must be reported (the shaft is conservative); the
+// shaft must contain every such segment point; and the polygon shaft must be at least as tight
+// as the box-to-box shaft of the same polygons, and reject most boxes no segment meets.
+TEST(Shaft, PolygonShaftAgainstSegmentSampling) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> t(0, 1);
+  int missedByAllSegments = 0, rejectedByPolygonShaft = 0, rejectedByBoxShaft = 0;
+  int polygonShafts = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Polygon3 a = randomPolygon(rng), b = randomPolygon(rng);
+    const Shaft shaft(a, b);
+    Box3 ba, bb;
+    for (const Vec3& p : a) ba.extend(p);
+    for (const Vec3& p : b) bb.extend(p);
+    const Shaft boxShaft(ba, bb);
+    polygonShafts += shaft.isPolygonShaft();
+    std::vector<std::pair<Vec3, Vec3>> segments;
+    for (int k = 0; k < 400; ++k) segments.push_back({pointOn(a, rng), pointOn(b, rng)});
+    for (const auto& [p, q] : segments)
+      // 1e-9: rounding of plane offsets for coordinates of size 10.
+      ASSERT_TRUE(shaft.contains(p + (q - p) * t(rng), 1e-9)) << trial;
+    for (int k = 0; k < 20; ++k) {
+      Box3 box;
+      const Vec3 corner = ba.center() + (bb.center() - ba.center()) * t(rng) +
+                          Vec3{t(rng) - 0.5, t(rng) - 0.5, t(rng) - 0.5} * 6.0;
+      box.extend(corner);
+      box.extend(corner + Vec3{t(rng), t(rng), t(rng)} * 0.5);
+      bool hit = false;
+      for (const auto& [p, q] : segments) hit = hit || segmentHitsBox(p, q, box);
+      if (hit) {
+        ASSERT_TRUE(shaft.mayIntersect(box)) << trial;
+        ASSERT_TRUE(boxShaft.mayIntersect(box)) << trial;
+      } else {
+        ++missedByAllSegments;
+        rejectedByPolygonShaft += !shaft.mayIntersect(box);
+        rejectedByBoxShaft += !boxShaft.mayIntersect(box);
+      }
+      // A box entirely outside the polygon shaft is met by no segment (the converse above).
+      if (!shaft.mayIntersect(box)) {
+        EXPECT_FALSE(hit);
+      }
+    }
+  }
+  std::printf("boxes no segment meets: %d; rejected by polygon shafts %d, by box shafts %d\n",
+              missedByAllSegments, rejectedByPolygonShaft, rejectedByBoxShaft);
+  EXPECT_GT(polygonShafts, 290);  // random polygons are almost never coplanar
+  EXPECT_GE(rejectedByPolygonShaft, rejectedByBoxShaft);
+  // Boxes met by no sampled segment may still graze the hull; most must be rejected.
+  EXPECT_GT(rejectedByPolygonShaft, missedByAllSegments / 2);
+}
+
+// Facing unit squares one apart: the shaft is the unit cube; a box inside is reported, boxes
+// beside the cube (inside the hull box of a tilted pair, outside the hull) are not.
+TEST(Shaft, PolygonShaftOfFacingSquares) {
+  const Polygon3 floor{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const Polygon3 ceiling{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
+  const Shaft shaft(floor, ceiling);
+  EXPECT_TRUE(shaft.isPolygonShaft());
+  EXPECT_EQ(shaft.planeCount(), 6);
+  Box3 inside;
+  inside.extend({0.4, 0.4, 0.4});
+  inside.extend({0.6, 0.6, 0.6});
+  EXPECT_TRUE(shaft.mayIntersect(inside));
+  // A sheared pair: the ceiling moved by 1 in x. The hull box spans x in [0, 2]; the corner
+  // region near (1.8, 0.5, 0.1) is inside the box shaft's hull box but outside the hull.
+  const Polygon3 shifted{{1, 0, 1}, {1, 1, 1}, {2, 1, 1}, {2, 0, 1}};
+  const Shaft sheared(floor, shifted);
+  Box3 corner;
+  corner.extend({1.7, 0.4, 0.05});
+  corner.extend({1.8, 0.6, 0.15});
+  EXPECT_FALSE(sheared.mayIntersect(corner));
+  Box3 middle;
+  middle.extend({0.9, 0.4, 0.45});
+  middle.extend({1.1, 0.6, 0.55});
+  EXPECT_TRUE(sheared.mayIntersect(middle));
+  // Coplanar polygons have no volume between them: the box shaft of their bounds is used.
+  const Polygon3 beside{{2, 0, 0}, {3, 0, 0}, {3, 1, 0}, {2, 1, 0}};
+  EXPECT_FALSE(Shaft(floor, beside).isPolygonShaft());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "frame_range.h"
+#include "peak_memory.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "progress.h"
@@ -14,15 +15,6 @@
 namespace penumbra::cli {
 
 namespace {
-
-// Peak resident memory of this process (VmHWM), 0 where /proc is unavailable.
-std::size_t peakMemoryBytes() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::size_t(std::stoull(line.substr(6))) * 1024;
-  return 0;
-}
 
 nlohmann::json statsJson(const RadiosityStats& s) {
   return {{"links", s.links},
@@ -32,6 +24,7 @@ nlohmann::json statsJson(const RadiosityStats& s) {
           {"leaves", s.leaves},
           {"clusters", s.clusters},
           {"shafts", s.shafts},
+          {"polygon_shafts", s.polygonShafts},
           {"visibility_rays", s.visibilityRays},
           {"iterations", s.iterations},
           {"residual", s.residual},

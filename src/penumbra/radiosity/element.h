@@ -25,6 +25,7 @@ struct NodeRadiometry {
   Rgb radiosity;            // B = M + ρ (E_direct + E_indirect) at leaves, area mean above
   Rgb reflected;            // B − M
   double maxRadiosity = 0;  // largest leaf radiosity component below (for the refinement oracle)
+  double minRadiosity = 0;  // smallest leaf radiosity component below
 };
 
 struct Element {

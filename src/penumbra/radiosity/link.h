@@ -23,6 +23,11 @@ struct Link {
   // How much the point-to-source form factor varies over the receiver (max − min at the
   // quadrature points); for links with a cluster end, the transfer itself (unknown variation).
   float transferSpread = 0;
+  // How much the form factor from a point of the source to the receiver varies over the source
+  // (max − min); for a cluster source, the transfer times A_receiver / A_source (unknown
+  // variation). Gathering spreads B over the source evenly, which is exact only where B or this
+  // is constant: the source oracle weighs it with the variation of B.
+  float sourceSpread = 0;
   int shaft = -1;  // index of its shaft in the solver's shafts, -1 when not stored
   bool active = true;
   std::vector<int> children;  // links replacing this one after refinement (passive links)

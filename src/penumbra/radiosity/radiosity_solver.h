@@ -3,9 +3,11 @@
 //
 // Input polygons become element quadtrees under a volume cluster hierarchy with a single root;
 // links between clusters and elements carry a form factor estimate, a visibility estimate (Embree
-// rays between jittered points) and a shaft. Refinement follows a BF oracle; solving gathers over
-// active links and push-pulls until the radiosities stop changing. Direct irradiance (transported
-// from emission) and indirect irradiance (from reflected radiosity) are kept apart.
+// rays aimed in the solid angle of the source) and a shaft (polygon-to-polygon between elements,
+// box-to-box otherwise). Refinement follows power oracles on links and on receivers; solving
+// gathers over active links and push-pulls until the radiosities stop changing. Direct irradiance
+// (transported from emission) and indirect irradiance (from reflected radiosity) are kept apart.
+// Polygons in face-to-face contact exchange energy where they overlap and nothing else there.
 //
 // Units: B, M in W/m²; irradiance in W/m²; B = M + ρ (E_direct + E_indirect) (DESIGN.md §5).
 
@@ -26,16 +28,18 @@ class RayCaster;
 class UniformGrid;
 
 struct RadiosityOptions {
-  // BF oracle: a link is refined while its irradiance error bound, max B_source x (variation of
-  // the form factor over the receiver + the transfer when the source is partly hidden), exceeds
-  // tolerance x the largest emitted exitance of the scene.
+  // Power oracles (refinement.cpp), all against tolerance x the power emitted by the scene:
+  //  - link: A_receiver x B_max(source) x the unoccluded transfer, counted once when the source
+  //    is partly hidden and once when the receiver is a cluster; A_source x (B_max − B_min over
+  //    the source) x the variation over the source of the form factor to the receiver;
+  //  - receiver: A_receiver x the variation over the receiver of Σ_links F(x, source) V B_source.
   double tolerance = 1e-3;
   // Elements are not split below this area (0: minAreaFactor x tolerance x total surface area,
   // so the finest element scales with the power criterion).
   double minElementArea = 0;
   double minAreaFactor = 0.05;
-  int visibilityRays = 16;    // rays per link (jittered, stratified on element ends)
-  int clusterSamples = 16;    // point pairs for form factors involving a cluster
+  int visibilityRays = 16;    // rays per element link (stratified receiver points)
+  int clusterSamples = 16;    // receiver points (one ray each) for links with a cluster end
   double convergence = 1e-5;  // stop when the largest change of B < convergence x max B
   int maxIterations = 1000;
   int refinementPasses = 4;  // refine, solve, refine with the new radiosities, ...
@@ -52,6 +56,7 @@ struct RadiosityStats {
   long long activeLinks = 0;
   long long passiveLinks = 0;
   long long shafts = 0;
+  long long polygonShafts = 0;  // element-to-element links; the others are box-to-box
   long long visibilityRays = 0;
   int iterations = 0;   // gathering iterations of the last solve
   double residual = 0;  // last largest relative change of B
@@ -131,6 +136,11 @@ class RadiositySolver {
   int addLink(NodeRef receiver, NodeRef source, bool estimate);
   void estimate(Link& link);
   void refineLink(int link);
+  void replaceLink(int link, const std::vector<std::pair<NodeRef, NodeRef>>& pairs);
+  bool refineReceivers();
+  // The link's transfer seen from the point x of its element receiver (`covered`: x lies under a
+  // polygon in contact with the receiver).
+  double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;
   bool refineActiveLinks();
   void solve();
   void pushPull(NodeRef node, const Rgb& direct, const Rgb& indirect, double& largestChange);
@@ -150,20 +160,37 @@ class RadiositySolver {
   struct SurfacePoint {
     Vec3 position;
     Vec3 normal;
+    PolygonId polygon = 0;
   };
   SurfacePoint samplePoint(NodeRef n, double u, double v, double w) const;
+  void findContacts();
+  // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it? Such a point
+  // sees only that polygon (the ray caster, which ignores polygons through a ray's ends, would
+  // let it see through).
+  bool isCovered(PolygonId polygon, const Vec3& x) const;
+  // Does light pass between x (on polygon p) and y (on polygon q)?
+  bool isVisible(PolygonId p, const Vec3& x, PolygonId q, const Vec3& y) const;
 
   RadiosityOptions options_;
   PosedScene scene_;
   std::unique_ptr<UniformGrid> grid_;
   std::unique_ptr<RayCaster> rays_;
   std::vector<Element> elements_;
-  std::vector<std::vector<int>> polygonRoots_;  // root elements of each polygon
-  std::vector<int> rootOrder_;                  // root elements in cluster order
-  std::vector<double> rootCumulativeArea_;      // prefix sums of areas over rootOrder_
-  std::vector<Cluster> clusters_;               // [0] is the root
-  std::vector<Link> links_;                     // [0] is the root self-link
+  std::vector<std::vector<int>> polygonRoots_;    // root elements of each polygon
+  std::vector<std::vector<PolygonId>> contacts_;  // polygons in face-to-face contact with each
+  std::vector<int> rootOrder_;                    // root elements in cluster order
+  std::vector<double> rootCumulativeArea_;        // prefix sums of areas over rootOrder_
+  std::vector<Cluster> clusters_;                 // [0] is the root
+  std::vector<Link> links_;                       // [0] is the root self-link
   std::vector<Shaft> shafts_;
+  // The receiver oracle's point transfers of each link at its receiver's 16 grandchild centres,
+  // computed once per link (geometry does not change; B does, between passes). Dropped after
+  // building.
+  struct PointTransfers {
+    std::array<float, 16> values{};
+    bool valid = false;
+  };
+  std::vector<PointTransfers> pointTransfers_;
   std::vector<std::array<std::uint32_t, 4>> leafVertices_;  // mesh vertices of each leaf
   RadiosityMesh mesh_;
   double minArea_ = 0;

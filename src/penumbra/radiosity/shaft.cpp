@@ -7,6 +7,10 @@
 
 #include "penumbra/radiosity/shaft.h"
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "penumbra/base/check.h"
 
 namespace penumbra {
@@ -61,6 +65,55 @@ Shaft::Shaft(const Box3& a, const Box3& b) {
           CHECK_LT(int(planeCount_), kMaxPlanes);
           planes_[planeCount_++] = Plane::fromPointNormal(point, normal);
         }
+}
+
+Shaft::Shaft(const Polygon3& a, const Polygon3& b) {
+  CHECK(a.size() >= 3 && b.size() >= 3);
+  std::vector<Vec3> points(a.begin(), a.end());
+  points.insert(points.end(), b.begin(), b.end());
+  CHECK_LE(points.size(), 8u);
+  Box3 ba, bb;
+  for (const Vec3& p : a) ba.extend(p);
+  for (const Vec3& p : b) bb.extend(p);
+  hull_ = ba;
+  hull_.extend(bb);
+  // Relative tolerance: a plane supports the hull when no point lies further than this outside.
+  const double tolerance = 1e-9 * std::max(1.0, hull_.diagonalLength());
+  const auto addSupportingPlane = [&](const Vec3& p, const Vec3& q, const Vec3& r) {
+    const Vec3 normal = cross(q - p, r - p);
+    if (length(normal) <= 1e-12 * std::max(1.0, dot(q - p, q - p) + dot(r - p, r - p))) return;
+    Plane plane = Plane::fromPointNormal(p, normal);
+    bool anyAbove = false, anyBelow = false;
+    for (const Vec3& x : points) {
+      const double d = plane.signedDistance(x);
+      anyAbove = anyAbove || d > tolerance;
+      anyBelow = anyBelow || d < -tolerance;
+    }
+    if (anyAbove && anyBelow) return;
+    if (!anyAbove && !anyBelow) return;     // every point in the plane: no volume
+    if (anyAbove) plane = plane.flipped();  // outward: every point on the inner side
+    for (int k = 0; k < planeCount_; ++k)
+      if (dot(planes_[k].normal, plane.normal) > 1 - 1e-12 &&
+          std::abs(planes_[k].offset - plane.offset) <= tolerance)
+        return;  // the same face found through another triple
+    // A hull has at most 12 faces; rounding may split a face into near-duplicates beyond that.
+    // Dropping a plane only makes the shaft larger, so it stays conservative.
+    if (planeCount_ < kMaxPlanes) planes_[planeCount_++] = plane;
+  };
+  // Every face of the hull of two convex polygons is a polygon's own plane or contains an edge of
+  // one polygon and a vertex of the other (or two parallel edges, found the same way).
+  for (const Polygon3* pair : {&a, &b}) {
+    const Polygon3& edges = *pair;
+    const Polygon3& other = pair == &a ? b : a;
+    addSupportingPlane(edges[0], edges[1], edges[2]);
+    for (size_t i = 0; i < edges.size(); ++i)
+      for (const Vec3& v : other) addSupportingPlane(edges[i], edges[(i + 1) % edges.size()], v);
+  }
+  if (planeCount_ < 4) {  // flat: no convex hull with volume
+    *this = Shaft(ba, bb);
+    return;
+  }
+  isPolygonShaft_ = true;
 }
 
 bool Shaft::mayIntersect(const Box3& box) const {

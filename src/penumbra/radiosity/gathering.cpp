@@ -1,0 +1,36 @@
+// Gathering over the active links (Hanrahan, Salzman & Aupperle 1991), Jacobi iteration.
+
+#include "penumbra/radiosity/radiosity_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra {
+
+// Jacobi gathering over the active links. The direct part depends on emission only, so it is
+// gathered once; the indirect part is iterated to convergence.
+void RadiositySolver::solve() {
+  for (Element& e : elements_) e.radiometry.gatheredDirect = e.radiometry.gatheredIndirect = {};
+  for (Cluster& c : clusters_) c.radiometry.gatheredDirect = c.radiometry.gatheredIndirect = {};
+  for (const Link& link : links_)
+    if (link.active)
+      radiometry(link.receiver).gatheredDirect +=
+          radiometry(link.source).emission * link.transfer();
+  stats_.iterations = 0;
+  for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
+    for (Element& e : elements_) e.radiometry.gatheredIndirect = {};
+    for (Cluster& c : clusters_) c.radiometry.gatheredIndirect = {};
+    for (const Link& link : links_)
+      if (link.active)
+        radiometry(link.receiver).gatheredIndirect +=
+            radiometry(link.source).reflected * link.transfer();
+    double largestChange = 0;
+    pushPull({NodeRef::kCluster, 0}, {}, {}, largestChange);
+    stats_.iterations = iteration + 1;
+    const double scale = std::max(clusters_[0].radiometry.maxRadiosity, 1e-300);
+    stats_.residual = largestChange / scale;
+    if (stats_.residual < options_.convergence) break;
+  }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,107 @@
+// The hierarchy: element quadtree roots from the input polygons (Hanrahan, Salzman & Aupperle
+// 1991) and the volume cluster hierarchy above them (Sillion 1995; Smits, Arvo & Greenberg 1994).
+
+#include "penumbra/radiosity/radiosity_solver.h"
+
+#include <algorithm>
+
+#include "penumbra/geometry/triangulation.h"
+
+namespace penumbra {
+
+namespace {
+
+constexpr int kMaxElementsPerLeafCluster = 4;
+constexpr int kMaxClusterDepth = 24;
+
+bool isConvexQuad(const Polygon3& q, const Vec3& normal) {
+  for (int i = 0; i < 4; ++i)
+    if (dot(cross(q[(i + 1) % 4] - q[i], q[(i + 2) % 4] - q[(i + 1) % 4]), normal) <= 0)
+      return false;
+  return true;
+}
+
+}  // namespace
+
+void RadiositySolver::buildElements() {
+  polygonRoots_.assign(scene_.polygons.size(), {});
+  for (const WorldPolygon& polygon : scene_.polygons) {
+    const Material& material = scene_.materialOf(polygon);
+    const Polygon3 loop = withoutRepeatedVertices(polygon.vertices);
+    if (loop.size() < 3 || polygon.area <= 0) continue;
+    std::vector<std::array<Vec3, 4>> pieces;
+    std::vector<int> counts;
+    if (loop.size() == 3 || (loop.size() == 4 && isConvexQuad(loop, polygon.plane.normal))) {
+      std::array<Vec3, 4> v{};
+      std::copy(loop.begin(), loop.end(), v.begin());
+      pieces.push_back(v);
+      counts.push_back(int(loop.size()));
+    } else {
+      for (const auto& t : triangulate(loop)) {
+        pieces.push_back({loop[t[0]], loop[t[1]], loop[t[2]], {}});
+        counts.push_back(3);
+      }
+    }
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      Element e;
+      e.vertices = pieces[k];
+      e.vertexCount = std::uint8_t(counts[k]);
+      e.polygon = polygon.id;
+      e.normal = polygon.plane.normal;
+      e.area = elementArea(e.vertices, e.vertexCount);
+      if (e.area <= 0) continue;
+      e.reflectance = material.reflectance;
+      e.radiometry.emission = material.emission;
+      polygonRoots_[polygon.id].push_back(int(elements_.size()));
+      elements_.push_back(e);
+    }
+  }
+}
+
+// Volume clustering (Sillion 1995): the box of the element centroids is cut into octants
+// recursively; an octant with one element contributes that element directly.
+int RadiositySolver::buildCluster(int begin, int end, int depth) {
+  const int index = int(clusters_.size());
+  clusters_.emplace_back();
+  Cluster cluster;
+  cluster.elementBegin = begin;
+  cluster.elementEnd = end;
+  Box3 centroids;
+  for (int i = begin; i < end; ++i) {
+    const Element& e = elements_[rootOrder_[i]];
+    cluster.bounds.extend(e.bounds());
+    cluster.area += e.area;
+    centroids.extend(e.centroid());
+  }
+  const bool isSmall = end - begin <= kMaxElementsPerLeafCluster || depth >= kMaxClusterDepth ||
+                       centroids.diagonalLength() == 0;
+  if (isSmall) {
+    for (int i = begin; i < end; ++i)
+      cluster.children.push_back({NodeRef::kElement, rootOrder_[i]});
+  } else {
+    const Vec3 mid = centroids.center();
+    const auto octant = [&](int element) {
+      const Vec3 c = elements_[element].centroid();
+      return (c.x > mid.x ? 1 : 0) | (c.y > mid.y ? 2 : 0) | (c.z > mid.z ? 4 : 0);
+    };
+    std::stable_sort(rootOrder_.begin() + begin, rootOrder_.begin() + end,
+                     [&](int a, int b) { return octant(a) < octant(b); });
+    int first = begin;
+    while (first < end) {
+      int last = first + 1;
+      while (last < end && octant(rootOrder_[last]) == octant(rootOrder_[first])) ++last;
+      if (last - first == 1)
+        cluster.children.push_back({NodeRef::kElement, rootOrder_[first]});
+      else if (first == begin && last == end)  // one octant holds all: stop here
+        for (int i = begin; i < end; ++i)
+          cluster.children.push_back({NodeRef::kElement, rootOrder_[i]});
+      else
+        cluster.children.push_back({NodeRef::kCluster, buildCluster(first, last, depth + 1)});
+      first = last;
+    }
+  }
+  clusters_[index] = std::move(cluster);
+  return index;
+}
+
+}  // namespace penumbra

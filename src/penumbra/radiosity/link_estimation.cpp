@@ -1,0 +1,372 @@
+// Link estimates: form factor, its variation over the receiver, and visibility.
+//
+// Element to element: the transfer is the receiver-area mean of the exact point-to-polygon form
+// factor (Lambert's formula on the source clipped to the receiver point's front half-space),
+// integrated by an adaptive midpoint rule on the receiver's quadtree (at least its 16
+// grandchildren; cells are split further while their four children's mean disagrees with their
+// centre value, as near an edge shared with the source, where the point form factor is steep).
+// Exact per point, so the form factors of the sources seen from a point sum to 1 in a closed scene,
+// up to visibility; visibility is the fraction of unoccluded rays between stratified points.
+// Two elements in contact face to face (coplanar, opposite normals: a box standing on the floor,
+// a door glued on a cabinet) see only each other where they overlap: the limit of the form factor
+// as the gap closes is the overlap's share of the receiver's area, with nothing in between.
+//
+// A cluster at one end (Smits, Arvo & Greenberg 1994; Sillion 1995): receiver points area-uniform
+// and stratified over the receiver's surfaces; at each, the exact unoccluded form factor to every
+// root element of the source (Lambert's formula, no singularity, no regularisation bias), and one
+// ray to a point of a source element chosen in proportion to its form factor, so the visibility is
+// form-factor weighted. The transfer is the mean over the receiver points.
+
+#include "penumbra/radiosity/radiosity_solver.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "penumbra/spatial/ray_caster.h"
+
+namespace penumbra {
+
+namespace {
+
+// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator; one per link keeps the
+// estimates independent of the order links are refined in.
+class SplitMix {
+ public:
+  explicit SplitMix(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t state_;
+};
+
+std::uint64_t linkSeed(std::uint64_t seed, NodeRef r, NodeRef s) {
+  SplitMix mix(seed ^ (std::uint64_t(r.index) << 1 | r.kind) * 0x100000001b3ull ^
+               (std::uint64_t(s.index) << 33 | std::uint64_t(s.kind) << 32));
+  mix.next();
+  return mix.next();
+}
+
+Polygon3 loopOf(const Element& e) {
+  return Polygon3(e.vertices.begin(), e.vertices.begin() + e.vertexCount);
+}
+
+// Form factor from the point x (normal n) to the front side of element s: s clipped to x's front
+// half-space (Sutherland-Hodgman, on the stack: this is the solver's innermost loop), then
+// Lambert's formula as in lighting/form_factor.h.
+double pointToElement(const Vec3& x, const Vec3& n, const Element& s) {
+  if (dot(s.normal, x - s.vertices[0]) <= 0) return 0;  // x behind the source: it emits forward
+  std::array<double, 4> side{};
+  bool allInFront = true, allBehind = true;
+  for (int i = 0; i < s.vertexCount; ++i) {
+    side[i] = dot(n, s.vertices[i] - x);
+    allInFront = allInFront && side[i] >= 0;
+    allBehind = allBehind && side[i] <= 0;
+  }
+  if (allBehind) return 0;
+  std::array<Vec3, 5> loop{};
+  int count = 0;
+  if (allInFront) {
+    for (int i = 0; i < s.vertexCount; ++i) loop[count++] = s.vertices[i] - x;
+  } else {
+    for (int i = 0; i < s.vertexCount; ++i) {
+      const int j = (i + 1) % s.vertexCount;
+      if (side[i] >= 0) loop[count++] = s.vertices[i] - x;
+      if ((side[i] > 0 && side[j] < 0) || (side[i] < 0 && side[j] > 0)) {
+        const double t = side[i] / (side[i] - side[j]);
+        loop[count++] = s.vertices[i] + (s.vertices[j] - s.vertices[i]) * t - x;
+      }
+    }
+    if (count < 3) return 0;
+  }
+  double sum = 0;
+  for (int i = 0; i < count; ++i) {
+    const Vec3& a = loop[i];
+    const Vec3& b = loop[(i + 1) % count];
+    const Vec3 c = cross(b, a);
+    const double sinTimesLengths = length(c);
+    if (sinTimesLengths == 0) continue;
+    sum += std::atan2(sinTimesLengths, dot(a, b)) * dot(n, c) / sinTimesLengths;
+  }
+  return std::max(0.0, sum / (2 * std::numbers::pi));
+}
+
+// Relative slack for "on the plane": a polygon touching a plane counts as lying in it.
+double contactSlack(const PosedScene& scene) {
+  return 1e-9 * std::max(1.0, scene.bounds.diagonalLength());
+}
+
+Vec3 vertexMean(const std::array<Vec3, 4>& loop, int count) {
+  Vec3 c{0, 0, 0};
+  for (int i = 0; i < count; ++i) c += loop[i];
+  return c / double(count);
+}
+
+// The share of r's area that the element s covers when both lie in one plane facing each other,
+// or nothing when they do not (both are convex: r is clipped by the inner half-spaces of s's
+// edges).
+std::optional<double> contactShare(const Element& r, const Element& s, double slack) {
+  if (dot(r.normal, s.normal) > -1 + 1e-9) return std::nullopt;
+  const Plane plane = Plane::fromPointNormal(s.vertices[0], s.normal);
+  for (int i = 0; i < r.vertexCount; ++i)
+    if (std::abs(plane.signedDistance(r.vertices[i])) > slack) return std::nullopt;
+  Polygon3 overlap = loopOf(r);
+  for (int i = 0; i < s.vertexCount && overlap.size() >= 3; ++i) {
+    const Vec3& a = s.vertices[i];
+    const Vec3& b = s.vertices[(i + 1) % s.vertexCount];
+    overlap = clipByPlane(overlap, Plane::fromPointNormal(a, cross(s.normal, b - a)));
+  }
+  return overlap.size() >= 3 ? std::min(1.0, area(overlap) / r.area) : 0.0;
+}
+
+// Adaptive midpoint rule for the mean over the cell `loop` of the point form factor to `s`.
+// `centre` is the value at the cell's centre; `level` counts cells below the receiver.
+struct FormFactorQuadrature {
+  const Element& source;
+  Vec3 normal;
+  int vertexCount;
+  double lowest = 1e300, highest = 0;
+  int evaluations = 0;
+
+  static constexpr int kMinLevel = 1;  // grandchildren of the receiver at least (16 points)
+  static constexpr int kMaxLevel = 6;  // 1/64 of the receiver's side
+  static constexpr double kAbsoluteTolerance = 1e-4;
+
+  double at(const Vec3& x) {
+    ++evaluations;
+    const double f = pointToElement(x, normal, source);
+    lowest = std::min(lowest, f);
+    highest = std::max(highest, f);
+    return f;
+  }
+  double mean(const std::array<Vec3, 4>& loop, double centre, int level) {
+    Element cell;
+    cell.vertices = loop;
+    cell.vertexCount = std::uint8_t(vertexCount);
+    const auto children = cell.childVertices();
+    std::array<double, 4> values{}, areas{};
+    double sum = 0, total = 0;
+    for (int k = 0; k < 4; ++k) {
+      areas[k] = elementArea(children[k], vertexCount);
+      values[k] = at(vertexMean(children[k], vertexCount));
+      sum += areas[k] * values[k];
+      total += areas[k];
+    }
+    const double estimate = sum / total;
+    if (level >= kMaxLevel ||
+        (level >= kMinLevel && std::abs(estimate - centre) <= kAbsoluteTolerance))
+      return estimate;
+    sum = 0;
+    for (int k = 0; k < 4; ++k) sum += areas[k] * mean(children[k], values[k], level + 1);
+    return sum / total;
+  }
+};
+
+// Arvo 1995, "Stratified sampling of spherical triangles": a direction uniform in the solid angle
+// of the triangle (a, b, c) seen from x, from two numbers in [0, 1). Returns nothing when the
+// triangle is degenerate seen from x.
+std::optional<Vec3> sampleSphericalTriangle(const Vec3& x, const Vec3& a, const Vec3& b,
+                                            const Vec3& c, double u1, double u2,
+                                            double* solidAngle = nullptr) {
+  const Vec3 A = normalize(a - x), B = normalize(b - x), C = normalize(c - x);
+  const Vec3 nab = cross(A, B), nac = cross(A, C), nbc = cross(B, C);
+  if (length(nab) < 1e-12 || length(nac) < 1e-12 || length(nbc) < 1e-12) return std::nullopt;
+  const auto angle = [](const Vec3& p, const Vec3& q) {
+    return std::acos(std::clamp(dot(normalize(p), normalize(q)), -1.0, 1.0));
+  };
+  const double alpha = angle(nab, nac), beta = angle(-nab, nbc), gamma = angle(-nac, -nbc);
+  const double area = alpha + beta + gamma - std::numbers::pi;
+  if (solidAngle) *solidAngle = area;
+  if (!(area > 1e-12)) return std::nullopt;
+  const double cosC = dot(A, B);
+  const double areaHat = u1 * area;
+  const double s = std::sin(areaHat - alpha), t = std::cos(areaHat - alpha);
+  const double uu = t - std::cos(alpha), vv = s + std::sin(alpha) * cosC;
+  const double q =
+      std::clamp(((vv * t - uu * s) * std::cos(alpha) - vv) / ((vv * s + uu * t) * std::sin(alpha)),
+                 -1.0, 1.0);
+  const Vec3 cPerp = C - A * dot(C, A);
+  if (length(cPerp) < 1e-12) return std::nullopt;
+  const Vec3 cHat = A * q + normalize(cPerp) * std::sqrt(std::max(0.0, 1 - q * q));
+  const double z = 1 - u2 * (1 - dot(cHat, B));
+  const Vec3 hPerp = cHat - B * dot(cHat, B);
+  if (length(hPerp) < 1e-12) return B;
+  return normalize(B * z + normalize(hPerp) * std::sqrt(std::max(0.0, 1 - z * z)));
+}
+
+// A point of element e seen from x (normal n), uniform in the solid angle of the part of e in
+// front of x (so the parts of a large source near x are sampled as much as they matter), or
+// uniform in area when that part is degenerate seen from x.
+Vec3 sampleSeenFrom(const Vec3& x, const Vec3& n, const Element& e, double u1, double u2) {
+  const Polygon3 front = clipByPlane(loopOf(e), Plane::fromPointNormal(x, n));
+  const int triangles = int(front.size()) - 2;
+  if (triangles >= 1) {
+    std::array<double, 8> omega{};
+    double total = 0;
+    const int count = std::min(triangles, int(omega.size()));
+    for (int t = 0; t < count; ++t) {
+      sampleSphericalTriangle(x, front[0], front[t + 1], front[t + 2], 0, 0, &omega[t]);
+      if (!(omega[t] > 0) || !std::isfinite(omega[t])) omega[t] = 0;
+      total += omega[t];
+    }
+    if (total > 1e-12) {
+      double w = u1 * total;
+      int t = 0;
+      while (t + 1 < count && w >= omega[t]) w -= omega[t++];
+      const double v1 = std::clamp(w / std::max(omega[t], 1e-300), 0.0, 1.0 - 1e-12);
+      if (const auto d = sampleSphericalTriangle(x, front[0], front[t + 1], front[t + 2], v1, u2)) {
+        const double denominator = dot(e.normal, *d);
+        if (denominator < 0) {
+          const Vec3 y = x + *d * (dot(e.normal, e.vertices[0] - x) / denominator);
+          if (std::isfinite(y.x) && std::isfinite(y.y) && std::isfinite(y.z)) return y;
+        }
+      }
+    }
+  }
+  return e.samplePoint(u1, u2);
+}
+
+// Largest minus smallest form factor from the source's 16 grandchild centres to the receiver.
+double sourceSideSpread(const Element& source, const Element& receiver) {
+  double lowest = 1e300, highest = 0;
+  for (const auto& loop : source.childVertices()) {
+    Element child;
+    child.vertices = loop;
+    child.vertexCount = source.vertexCount;
+    for (const auto& subLoop : child.childVertices()) {
+      const double f =
+          pointToElement(vertexMean(subLoop, source.vertexCount), source.normal, receiver);
+      lowest = std::min(lowest, f);
+      highest = std::max(highest, f);
+    }
+  }
+  return highest - lowest;
+}
+
+}  // namespace
+
+void RadiositySolver::estimate(Link& link) {
+  SplitMix rng(linkSeed(options_.seed, link.receiver, link.source));
+  const NodeRef r = link.receiver, s = link.source;
+  if (!r.isCluster() && !s.isCluster()) {
+    const Element& re = elements_[r.index];
+    const Element& se = elements_[s.index];
+    if (const auto share = contactShare(re, se, contactSlack(scene_))) {
+      link.unoccludedTransfer = float(*share);
+      link.transferSpread = *share > 0 && *share < 1 ? 1.f : 0.f;
+      link.visibility = *share > 0 ? 1.f : 0.f;
+      return;
+    }
+    FormFactorQuadrature quadrature{se, re.normal, re.vertexCount};
+    const double transfer = quadrature.mean(re.vertices, quadrature.at(re.centroid()), 0);
+    link.unoccludedTransfer = float(transfer);
+    link.transferSpread = float(quadrature.highest - quadrature.lowest);
+    link.sourceSpread = float(sourceSideSpread(se, re));
+    if (link.unoccludedTransfer <= 0) {
+      link.visibility = 0;
+      return;
+    }
+    // Stratified jittered points on both ends, the source strata shuffled against the receiver's.
+    const int n = std::max(1, options_.visibilityRays);
+    const int side = std::max(1, int(std::lround(std::sqrt(double(n)))));
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    for (int i = n - 1; i > 0; --i) std::swap(order[i], order[rng.next() % (i + 1)]);
+    double weightSum = 0, visibleWeight = 0;
+    for (int i = 0; i < n; ++i) {
+      const auto stratum = [&](int k, double& u, double& v) {
+        const int cell = k % (side * side);
+        u = (cell % side + rng.uniform()) / side;
+        v = (cell / side + rng.uniform()) / side;
+      };
+      double u, v;
+      stratum(i, u, v);
+      const Vec3 x = re.samplePoint(u, v);
+      stratum(order[i], u, v);
+      // y uniform in the solid angle of the source seen from x, and x weighted by its form
+      // factor to the source: the visible fraction of the transfer, not of the pairs of points
+      // (uniform pairs undersample the parts of the source that matter most, nearby ones).
+      const Vec3 y = sampleSeenFrom(x, re.normal, se, u, v);
+      const double weight = pointToElement(x, re.normal, se);
+      weightSum += weight;
+      if (isVisible(re.polygon, x, se.polygon, y)) visibleWeight += weight;
+    }
+    stats_.visibilityRays += n;
+    link.visibility = weightSum > 0 ? float(visibleWeight / weightSum) : 0.f;
+    return;
+  }
+  // A cluster at one end or both: exact point-to-element form factors from receiver points to
+  // the source's root elements (or the source element), one form-factor-weighted ray per point.
+  std::vector<int> sources;
+  if (s.isCluster())
+    sources.assign(rootOrder_.begin() + clusters_[s.index].elementBegin,
+                   rootOrder_.begin() + clusters_[s.index].elementEnd);
+  else
+    sources.push_back(s.index);
+  std::vector<double> cumulative(sources.size() + 1, 0);
+  const int n = std::max(1, options_.clusterSamples);
+  double unoccluded = 0, visible = 0, lowest = 1e300, highest = 0;
+  for (int i = 0; i < n; ++i) {
+    const SurfacePoint x = samplePoint(r, rng.uniform(), rng.uniform(), (i + rng.uniform()) / n);
+    for (size_t k = 0; k < sources.size(); ++k)
+      cumulative[k + 1] =
+          cumulative[k] + pointToElement(x.position, x.normal, elements_[sources[k]]);
+    const double f = cumulative.back();
+    lowest = std::min(lowest, f);
+    highest = std::max(highest, f);
+    if (!(f > 0)) continue;
+    unoccluded += f;
+    const double target = rng.uniform() * f;
+    const size_t k = std::min<size_t>(
+        std::upper_bound(cumulative.begin() + 1, cumulative.end(), target) - cumulative.begin() - 1,
+        sources.size() - 1);
+    const Vec3 y =
+        sampleSeenFrom(x.position, x.normal, elements_[sources[k]], rng.uniform(), rng.uniform());
+    ++stats_.visibilityRays;
+    if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
+  }
+  link.unoccludedTransfer = float(unoccluded / n);
+  // The variation over the receiver's points, or the whole transfer when the receiver is a
+  // cluster (its surfaces face different ways: gathering gives them all the mean).
+  link.transferSpread = r.isCluster() ? link.unoccludedTransfer : float(highest - lowest);
+  link.visibility = unoccluded > 0 ? float(visible / unoccluded) : 0.f;
+  link.sourceSpread = float(link.unoccludedTransfer * area(r) / area(s));
+}
+
+}  // namespace penumbra
+
+namespace penumbra {
+
+// The link's transfer seen from one point of its receiver: the exact unoccluded point form factor
+// to a source element (to the root elements of a source cluster) times the link's visibility.
+double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
+                                      bool covered) const {
+  const NodeRef s = link.source;
+  double f = 0;
+  if (!s.isCluster()) {
+    const Element& se = elements_[s.index];
+    if (!link.receiver.isCluster() &&
+        contactShare(elements_[link.receiver.index], se, contactSlack(scene_)))
+      return se.insideness(x) >= 0 ? 1 : 0;  // in contact: the source covers x or not
+    if (covered) return 0;                   // x sees only what covers it
+    f = pointToElement(x, normal, se);
+  } else {
+    if (covered) return 0;
+    const Cluster& c = clusters_[s.index];
+    for (int i = c.elementBegin; i < c.elementEnd; ++i)
+      f += pointToElement(x, normal, elements_[rootOrder_[i]]);
+  }
+  return f * link.visibility;
+}
+
+}  // namespace penumbra
