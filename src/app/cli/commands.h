@@ -71,6 +71,7 @@ struct ShadowsOptions {
   std::string mode = "full";
   std::string report;
   std::string outDirectory;  // a PLY of the irradiance mesh per frame
+  bool noEee = false;        // skip the EEE surfaces (faster, not exact across EEE events)
 };
 int runShadows(const ShadowsOptions& options, const CommonOptions& common);
 

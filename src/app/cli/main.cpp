@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
   shadowsCommand->add_option("--frames", shadows.frames, "Frames A:B (default: all)");
   shadowsCommand->add_option("--mode", shadows.mode, "full (incremental, verify: later)");
   shadowsCommand->add_option("--report", shadows.report, "Write statistics as JSON");
+  shadowsCommand->add_flag("--no-eee", shadows.noEee,
+                           "Skip EEE surfaces (much faster in cluttered scenes; not exact across "
+                           "EEE events)");
   shadowsCommand->add_option("--out", shadows.outDirectory,
                              "Write the irradiance mesh of each frame as PLY into this folder");
 

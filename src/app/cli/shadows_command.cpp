@@ -77,7 +77,9 @@ int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
   const Scene scene = loadScene(options.scene);
   const FrameRange range = parseFrameRange(options.frames, scene.frames);
   if (!options.outDirectory.empty()) std::filesystem::create_directories(options.outDirectory);
-  DiscontinuityMeshEngine engine;
+  DmOptions engineOptions;
+  engineOptions.eeeSurfaces = !options.noEee;
+  DiscontinuityMeshEngine engine(engineOptions);
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("shadows", range.last - range.first + 1, common.quiet);
   for (int frame = range.first; frame <= range.last; ++frame) {
@@ -111,6 +113,7 @@ int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
     report["scene"] = options.scene;
     report["method"] = "dm";
     report["mode"] = options.mode;
+    report["eee_surfaces"] = !options.noEee;
     report["polygons"] = scene.polygonCount();
     report["frames"] = frames;
     report["peak_memory_bytes"] = peakMemoryBytes();

@@ -55,7 +55,7 @@ DiscontinuitySegment extended(DiscontinuitySegment s, double atStart, double atE
 
 }  // namespace
 
-DiscontinuityMeshEngine::DiscontinuityMeshEngine() = default;
+DiscontinuityMeshEngine::DiscontinuityMeshEngine(DmOptions options) : options_(options) {}
 DiscontinuityMeshEngine::~DiscontinuityMeshEngine() = default;
 
 void DiscontinuityMeshEngine::build(const Scene& scene, int frame) {
@@ -130,7 +130,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   eeeSurfaces_.clear();
   const double chord = kEeeChordTolerance * scene.bounds.diagonalLength();
   std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
-  for (PolygonId light : scene.lights) {
+  for (PolygonId light : options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{}) {
     const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
     for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, *grid_, light, firstId))
       eeeSurfaces_.push_back(std::move(s));

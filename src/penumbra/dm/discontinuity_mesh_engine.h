@@ -48,6 +48,14 @@ struct DmStats {
          secondsBackprojections = 0;
 };
 
+struct DmOptions {
+  // EEE surfaces (light edge × two occluder edges). Needed for exactness where the shadows of
+  // several occluders overlap; their tracing dominates the cost of cluttered scenes (a generated
+  // 1k-polygon room takes minutes with them), so large runs may turn them off and accept faces
+  // that span an EEE event there.
+  bool eeeSurfaces = true;
+};
+
 class DiscontinuityMeshEngine {
  public:
   // Discontinuity segments are lengthened by this fraction of the scene's size at both ends.
@@ -56,7 +64,7 @@ class DiscontinuityMeshEngine {
   // than twice that to such a polyline get their backprojection computed where they are.
   static constexpr double kEeeChordTolerance = 1e-6;
 
-  DiscontinuityMeshEngine();
+  explicit DiscontinuityMeshEngine(DmOptions options = {});
   ~DiscontinuityMeshEngine();
 
   // Full computation of frame `frame`.
@@ -85,6 +93,7 @@ class DiscontinuityMeshEngine {
     std::vector<std::pair<Vec3, Vec3>> eeeSegments;  // approximated conics on this receiver
   };
 
+  DmOptions options_;
   std::unique_ptr<PosedScene> posed_;
   std::unique_ptr<UniformGrid> grid_;
   std::unique_ptr<ExactReference> reference_;

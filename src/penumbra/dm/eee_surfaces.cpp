@@ -116,7 +116,7 @@ class Tracer {
   }
 
   std::vector<DiscontinuitySegment> trace() {
-    constexpr int kSamples = 32;
+    constexpr int kSamples = 12;
     for (const auto& [ta, tb] : validRanges(light_, e1_, e2_)) {
       std::vector<LineHit> hits;
       std::vector<double> ts;
@@ -126,9 +126,9 @@ class Tracer {
       }
       for (int i = 0; i < kSamples; ++i) refine(ts[i], hits[i], ts[i + 1], hits[i + 1], 0);
     }
-    std::sort(surface_.cells.begin(), surface_.cells.end());
-    surface_.cells.erase(std::unique(surface_.cells.begin(), surface_.cells.end()),
-                         surface_.cells.end());
+    std::sort(cells_.begin(), cells_.end());
+    cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+    surface_.cells = cells_;
     return segments_;
   }
 
@@ -142,6 +142,21 @@ class Tracer {
            contactPolygons_.end();
   }
 
+  // Where the line enters a box (slab method), in units of its direction; -inf if it starts in it.
+  static double entryParameter(const Box3& box, const CriticalLine& line) {
+    double enter = -INFINITY;
+    const double origin[3] = {line.source.x, line.source.y, line.source.z};
+    const double direction[3] = {line.direction.x, line.direction.y, line.direction.z};
+    const double lo[3] = {box.min.x, box.min.y, box.min.z},
+                 hi[3] = {box.max.x, box.max.y, box.max.z};
+    for (int k = 0; k < 3; ++k) {
+      if (direction[k] == 0) continue;
+      const double a = (lo[k] - origin[k]) / direction[k], b = (hi[k] - origin[k]) / direction[k];
+      enter = std::max(enter, std::min(a, b));
+    }
+    return enter;
+  }
+
   LineHit hit(double t) {
     LineHit result;
     const auto line = criticalLine(light_, e1_, e2_, t);
@@ -153,17 +168,29 @@ class Tracer {
       return result;
     const double reach = 2 * scene_.bounds.diagonalLength() / length(line->direction);
     const Vec3 end = line->source + line->direction * (line->farContact + reach);
-    const std::vector<int> cells = grid_.cellsAlongSegment(line->source, end);
-    surface_.cells.insert(surface_.cells.end(), cells.begin(), cells.end());
+    // Cells in order from the light: stop once the nearest receiver found lies before the next
+    // cell's entry (nothing farther can be nearer, and every blocker lies before the contact).
     double nearest = INFINITY;
-    for (PolygonId id : grid_.polygonsAlongSegment(line->source, end)) {
-      if (id == surface_.light || isContact(id)) continue;
-      const auto u = crossing(scene_.polygons[id], line->source, line->direction);
-      if (!u || *u <= 0) continue;
-      if (*u < line->farContact * (1 - 1e-9)) return result;  // blocked before the event
-      if (*u > line->farContact * (1 + 1e-9) && *u < nearest) {
-        nearest = *u;
-        result.receiver = id;
+    ++stamp_;
+    for (int cell : grid_.cellsAlongSegment(line->source, end)) {
+      cells_.push_back(cell);
+      if (cells_.size() > cellsLimit_) {
+        std::sort(cells_.begin(), cells_.end());
+        cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+        cellsLimit_ = std::max<size_t>(4096, 2 * cells_.size());
+      }
+      if (nearest < INFINITY && entryParameter(grid_.cellBounds(cell), *line) > nearest) break;
+      for (PolygonId id : grid_.polygonsInCell(cell)) {
+        if (tested_[id] == stamp_) continue;
+        tested_[id] = stamp_;
+        if (id == surface_.light || isContact(id)) continue;
+        const auto u = crossing(scene_.polygons[id], line->source, line->direction);
+        if (!u || *u <= 0) continue;
+        if (*u < line->farContact * (1 - 1e-9)) return result;  // blocked before the event
+        if (*u > line->farContact * (1 + 1e-9) && *u < nearest) {
+          nearest = *u;
+          result.receiver = id;
+        }
       }
     }
     if (result.receiver < 0) return result;
@@ -182,7 +209,7 @@ class Tracer {
   void refine(double t0, const LineHit& h0, double t1, const LineHit& h1, int depth) {
     const bool same = h0.visible && h1.visible && h0.receiver == h1.receiver;
     const bool bothInvisible = !h0.visible && !h1.visible;
-    if (depth >= 48) return;  // bracketed to 2^-48 of a sample interval: end the piece here
+    if (depth >= 36) return;  // bracketed to 2^-36 of a sample interval: end the piece here
     const double tm = 0.5 * (t0 + t1);
     const LineHit hm = hit(tm);
     if (same && hm.visible && hm.receiver == h0.receiver &&
@@ -191,7 +218,7 @@ class Tracer {
       return;
     }
     // Invisible at both ends and in the middle: nothing here (a visible stretch narrower than
-    // half a sample interval would be missed; the first samples are 1/32 of the light edge).
+    // half a sample interval would be missed; the first samples are 1/12 of the valid range).
     if (bothInvisible && !hm.visible) return;
     refine(t0, h0, tm, hm, depth + 1);
     refine(tm, hm, t1, h1, depth + 1);
@@ -205,6 +232,10 @@ class Tracer {
   Edge3 light_, e1_, e2_;
   std::vector<PolygonId> contactPolygons_;
   std::vector<DiscontinuitySegment> segments_;
+  std::vector<int> cells_;  // every cell a traced line crossed (sorted at the end)
+  size_t cellsLimit_ = 4096;
+  std::vector<unsigned> tested_ = std::vector<unsigned>(scene_.polygons.size(), 0);
+  unsigned stamp_ = 0;  // per-line marks: a polygon in several cells is tested once
 };
 
 bool sharesVertex(const SceneEdge& a, const SceneEdge& b) {
