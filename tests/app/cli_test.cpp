@@ -13,29 +13,16 @@
 #include <string>
 #include <vector>
 
+#include "support/run_command.h"
 #include "support/temp_dir.h"
 
 namespace penumbra {
 namespace {
 
-struct RunResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr
-};
+using test::RunResult;
 
 RunResult runPenumbra(const std::string& arguments) {
-  const std::string command =
-      std::string(PENUMBRA_BINARY_DIR) + "/bin/penumbra --quiet " + arguments + " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-    result.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return test::runCommand(std::string(PENUMBRA_BINARY_DIR) + "/bin/penumbra --quiet " + arguments);
 }
 
 const char* kScene = R"({ "penumbra": 1,

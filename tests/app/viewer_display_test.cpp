@@ -20,27 +20,16 @@
 #define STB_IMAGE_STATIC
 #include <stb_image.h>
 
+#include "support/run_command.h"
 #include "support/temp_dir.h"
 
 namespace penumbra {
 namespace {
 
-struct RunResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr
-};
+using test::RunResult;
 
 RunResult run(const std::string& command) {
-  RunResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-    result.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return test::runCommand(command);
 }
 
 // A 24-bit screen (xvfb-run's default is 1280x1024x24; said explicitly so GLX gets a visual).

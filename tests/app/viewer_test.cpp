@@ -9,29 +9,17 @@
 #include <cstdio>
 #include <string>
 
+#include "support/run_command.h"
+
 namespace penumbra {
 namespace {
 
-struct RunResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr
-};
+using test::RunResult;
 
 // Runs penumbra-view with no display at all (DISPLAY and WAYLAND_DISPLAY removed).
 RunResult runViewerWithoutDisplay(const std::string& arguments) {
-  const std::string command = "env -u DISPLAY -u WAYLAND_DISPLAY " +
-                              std::string(PENUMBRA_BINARY_DIR) + "/bin/penumbra-view " + arguments +
-                              " 2>&1";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-    result.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return test::runCommand("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(PENUMBRA_BINARY_DIR) +
+                          "/bin/penumbra-view " + arguments);
 }
 
 const std::string kScene =

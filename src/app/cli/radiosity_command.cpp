@@ -2,15 +2,14 @@
 // the hierarchical radiosity solution over a range of frames, with per-frame statistics.
 
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "frame_range.h"
-#include "peak_memory.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "progress.h"
+#include "report_file.h"
 
 namespace penumbra::cli {
 
@@ -76,16 +75,10 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
   if (!options.report.empty()) {
     const RadiosityStats& s = solver.stats();
     nlohmann::json report = statsJson(s);
-    report["scene"] = options.scene;
     report["method"] = "radiosity";
     report["update"] = options.update;
     report["tolerance"] = options.tolerance;
-    report["polygons"] = scene.polygonCount();
-    report["frames"] = frames;
-    report["peak_memory_bytes"] = peakMemoryBytes();
-    std::ofstream out(options.report);
-    if (!out) throw UsageError("cannot write --report " + options.report);
-    out << report.dump(2) << "\n";
+    writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
   }
   return kOk;
 }

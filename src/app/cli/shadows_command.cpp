@@ -4,17 +4,16 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "frame_range.h"
-#include "peak_memory.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/dm/irradiance_mesh.h"
 #include "penumbra/render/ply_writer.h"
 #include "penumbra/scene/scene_loader.h"
 #include "progress.h"
+#include "report_file.h"
 
 namespace penumbra::cli {
 
@@ -109,17 +108,9 @@ int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
     progress.advance();
   }
   if (!options.report.empty()) {
-    nlohmann::json report;
-    report["scene"] = options.scene;
-    report["method"] = "dm";
-    report["mode"] = options.mode;
-    report["eee_surfaces"] = !options.noEee;
-    report["polygons"] = scene.polygonCount();
-    report["frames"] = frames;
-    report["peak_memory_bytes"] = peakMemoryBytes();
-    std::ofstream out(options.report);
-    if (!out) throw UsageError("cannot write --report " + options.report);
-    out << report.dump(2) << "\n";
+    const nlohmann::json report = {
+        {"method", "dm"}, {"mode", options.mode}, {"eee_surfaces", !options.noEee}};
+    writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
   }
   return kOk;
 }

@@ -15,6 +15,19 @@ bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
   return std::find(polygons.begin(), polygons.end(), light) != polygons.end();
 }
 
+// The part of an occluder edge in front of the light (only lines leaving the light's front carry
+// light), or nothing when it has none of positive length.
+std::optional<std::array<Vec3, 2>> partInFront(const EdgeAdjacency& adjacency,
+                                               const SceneEdge& edge, const Plane& lightPlane) {
+  Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
+  const double da = lightPlane.signedDistance(a), db = lightPlane.signedDistance(b);
+  if (da <= 0 && db <= 0) return std::nullopt;
+  if (da <= 0) a = a + (b - a) * (da / (da - db));
+  if (db <= 0) b = b + (a - b) * (db / (db - da));
+  if (a == b) return std::nullopt;
+  return std::array<Vec3, 2>{a, b};
+}
+
 // The segment where a plane (normal m through point o) cuts the light polygon: its two extreme
 // crossings (the whole trace for a convex light, its hull otherwise: extra lines only refine).
 std::optional<std::array<Vec3, 2>> lightTrace(const Polygon3& light, const Vec3& lightNormal,
@@ -79,12 +92,9 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
   // lines leaving the light's front carry light.
   for (const SceneEdge& edge : adjacency.edges()) {
     if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
-    Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
-    const double da = lightPlane.signedDistance(a), db = lightPlane.signedDistance(b);
-    if (da <= 0 && db <= 0) continue;
-    if (da <= 0) a = a + (b - a) * (da / (da - db));
-    if (db <= 0) b = b + (a - b) * (db / (db - da));
-    if (a == b) continue;
+    const auto front = partInFront(adjacency, edge, lightPlane);
+    if (!front) continue;
+    const auto [a, b] = *front;
     const EdgeId edgeId = EdgeId(&edge - adjacency.edges().data());
     for (size_t i = 0; i < lv.size(); ++i) {
       if (!adjacency.isSilhouetteFrom(edgeId, lv[i])) continue;
@@ -154,14 +164,11 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
         const SceneEdge& edge = adjacency.edges()[edgeId];
         if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
         if (!adjacency.isSilhouetteFrom(edgeId, v)) continue;
-        // The part of the edge in front of the light.
-        Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
-        const double da = lightPlane.signedDistance(a), db = lightPlane.signedDistance(b);
-        if (da <= 0 && db <= 0) continue;
-        if (da <= 0) a = a + (b - a) * (da / (da - db));
-        if (db <= 0) b = b + (a - b) * (db / (db - da));
+        const auto front = partInFront(adjacency, edge, lightPlane);
+        if (!front) continue;
+        const auto [a, b] = *front;
         const Vec3 m = cross(b - a, v - a);
-        if (a == b || squaredLength(m) == 0) continue;
+        if (squaredLength(m) == 0) continue;
         const auto trace = lightTrace(lv, lightPlane.normal, m, v);
         if (!trace) continue;
         const auto [t0, t1] = *trace;
@@ -228,12 +235,10 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
         if (edgeId < 0) continue;
         const SceneEdge& edge = adjacency.edges()[edgeId];
         if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
-        Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
-        const double da = lightPlane.signedDistance(a), db = lightPlane.signedDistance(b);
-        if (da <= 0 && db <= 0) continue;
-        if (da <= 0) a = a + (b - a) * (da / (da - db));
-        if (db <= 0) b = b + (a - b) * (db / (db - da));
-        if (a == b || squaredLength(cross(a - t, b - t)) == 0) continue;
+        const auto front = partInFront(adjacency, edge, lightPlane);
+        if (!front) continue;
+        const auto [a, b] = *front;
+        if (squaredLength(cross(a - t, b - t)) == 0) continue;
         DiscontinuitySurface s;
         s.id = firstId + SurfaceId(surfaces.size());
         s.kind = SurfaceKind::kLightEdgeOccluderPlane;
