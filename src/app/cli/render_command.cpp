@@ -2,18 +2,17 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <numbers>
 
 #include "commands.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/dm/irradiance_mesh.h"
-#include "penumbra/geometry/triangulation.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/render/exr_io.h"
 #include "penumbra/render/gl_context.h"
 #include "penumbra/render/mesh_renderer.h"
 #include "penumbra/render/png_writer.h"
+#include "penumbra/render/radiance_mesh.h"
 #include "penumbra/render/ray_traced_image.h"
 #include "penumbra/render/shadow_volume_renderer.h"
 #include "penumbra/render/tone_mapping.h"
@@ -85,12 +84,7 @@ void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
   radiosityOptions.tolerance = options.tolerance;
   RadiositySolver solver(radiosityOptions);
   solver.build(posed);
-  const RadiosityMesh& solution = solver.mesh();
-  ColoredMesh mesh;
-  mesh.positions = solution.positions;
-  mesh.indices = solution.indices;
-  mesh.colors.reserve(solution.radiosity.size());
-  for (const Rgb& b : solution.radiosity) mesh.colors.push_back(b / std::numbers::pi);
+  const ColoredMesh mesh = radianceMesh(solver.mesh());
   const auto context = GlContext::createHeadless();
   MeshRenderer renderer;
   writeImages(options, common, renderer.render(mesh, camera, camera.width, camera.height), nullptr,
@@ -106,25 +100,7 @@ void renderDm(const RenderOptions& options, const CommonOptions& common, const P
   engine.build(PosedScene(posed));
   // Corners about 1/100 of the scene apart resolve the smooth falloff inside large faces.
   const IrradianceMesh solution = buildIrradianceMesh(engine, posed.bounds.diagonalLength() / 100);
-  ColoredMesh mesh;
-  mesh.positions = solution.positions;
-  mesh.indices = solution.indices;
-  mesh.colors.reserve(solution.positions.size());
-  for (size_t i = 0; i < solution.positions.size(); ++i) {
-    const Material& material = posed.materialOf(posed.polygons[solution.receiverOf[i]]);
-    mesh.colors.push_back(material.reflectance * solution.irradiance[i] / std::numbers::pi);
-  }
-  for (const WorldPolygon& polygon : posed.polygons) {
-    if (!polygon.isLight) continue;
-    const Rgb radiance = posed.materialOf(polygon).emission / std::numbers::pi;
-    const auto first = std::uint32_t(mesh.positions.size());
-    for (const Vec3& v : polygon.vertices) {
-      mesh.positions.push_back(v);
-      mesh.colors.push_back(radiance);
-    }
-    for (const auto& t : triangulate(polygon.vertices))
-      for (int k : t) mesh.indices.push_back(first + std::uint32_t(k));
-  }
+  const ColoredMesh mesh = radianceMesh(solution, posed);
   std::vector<LineSet> overlays;
   if (options.edges) {
     LineSet lines;

@@ -1,11 +1,11 @@
 #include "scene_view.h"
 
-#include <numbers>
 #include <utility>
 
 #include "penumbra/base/check.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/radiosity/radiosity_solver.h"
+#include "penumbra/render/radiance_mesh.h"
 #include "penumbra/render/ray_traced_image.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
@@ -79,13 +79,7 @@ Image SceneView::render(const Camera& camera, int width, int height) {
         radiosityOptions.tolerance = tolerance_;
         RadiositySolver solver(radiosityOptions);
         solver.build(posed_);
-        const RadiosityMesh& solution = solver.mesh();
-        ColoredMesh mesh;
-        mesh.positions = solution.positions;
-        mesh.indices = solution.indices;
-        mesh.colors.reserve(solution.radiosity.size());
-        for (const Rgb& b : solution.radiosity) mesh.colors.push_back(b / std::numbers::pi);
-        radiosityMesh_ = std::move(mesh);
+        radiosityMesh_ = radianceMesh(solver.mesh());
       }
       if (!meshRenderer_) meshRenderer_ = std::make_unique<MeshRenderer>();
       status_ = std::to_string(radiosityMesh_->indices.size() / 3) + " mesh triangles";
