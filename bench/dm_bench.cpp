@@ -26,6 +26,7 @@
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "penumbra_points.h"
 
 using namespace penumbra;
 
@@ -113,25 +114,16 @@ void runScene(const std::string& name, const std::string& path, bool monteCarlo,
   if (!monteCarlo) return;
 
   // Monte Carlo at penumbra points (0 < E < unoccluded), vs the DM evaluation there.
-  std::vector<ReceiverPoint> penumbra;
-  for (const ReceiverPoint& q : sampleReceiverPoints(posed, 20000, 11)) {
-    const double e = reference.irradiance(q.p, q.n, q.receiver).r;
-    double unoccluded = 0;
-    for (PolygonId light : posed.lights)
-      unoccluded += reference.unoccludedFormFactor(q.p, q.n, light) *
-                    posed.materialOf(posed.polygons[light]).emission.r;
-    if (e > 0.05 * unoccluded && e < 0.95 * unoccluded) penumbra.push_back(q);
-    if (penumbra.size() == 200) break;
-  }
+  const std::vector<bench::PenumbraPoint> penumbra =
+      bench::samplePenumbraPoints(posed, reference, 200, 11);
   const RayCaster rays(posed);
   const MonteCarloEstimator estimator(posed, rays);
   const MonteCarloOptions options{1024, 4, 5};  // 4096 rays per light per point
   double squaredError = 0, dmSeconds = 0, mcSeconds = 0;
-  for (const ReceiverPoint& q : penumbra) {
+  for (const auto& [q, exact] : penumbra) {
     t = Clock::now();
     engine.irradiance(q.p, q.n);
     dmSeconds += secondsSince(t);
-    const double exact = reference.irradiance(q.p, q.n, q.receiver).r;
     t = Clock::now();
     const double estimate = estimator.irradiance(q.p, q.n, options).mean.r;
     mcSeconds += secondsSince(t);

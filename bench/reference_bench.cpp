@@ -21,6 +21,7 @@
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "penumbra_points.h"
 
 using namespace penumbra;
 
@@ -96,22 +97,10 @@ int main(int argc, char** argv) {
   const ExactReference reference(posed, &grid);
   const RayCaster rays(posed);
   const MonteCarloEstimator monteCarlo(posed, rays);
-  std::vector<ReceiverPoint> penumbra;
-  std::vector<double> exact;
-  for (const auto& q : sampleReceiverPoints(posed, 20000, 11)) {
-    const double e = reference.irradiance(q.p, q.n, q.receiver).r;
-    double unoccluded = 0;
-    for (PolygonId l : posed.lights)
-      unoccluded += reference.unoccludedFormFactor(q.p, q.n, l) *
-                    posed.materialOf(posed.polygons[l]).emission.r;
-    if (e > 0.05 * unoccluded && e < 0.95 * unoccluded) {
-      penumbra.push_back(q);
-      exact.push_back(e);
-    }
-    if (penumbra.size() == 200) break;
-  }
+  const std::vector<bench::PenumbraPoint> penumbra =
+      bench::samplePenumbraPoints(posed, reference, 200, 11);
   auto start = Clock::now();
-  for (const auto& q : penumbra) (void)reference.irradiance(q.p, q.n, q.receiver);
+  for (const auto& [q, value] : penumbra) (void)reference.irradiance(q.p, q.n, q.receiver);
   const double exactSeconds = secondsSince(start) / penumbra.size();
   std::printf("penumbra points: %zu; exact reference: %.1f us/point\n", penumbra.size(),
               1e6 * exactSeconds);
@@ -123,10 +112,11 @@ int main(int argc, char** argv) {
     long long rayCount = 0;
     start = Clock::now();
     for (size_t i = 0; i < penumbra.size(); ++i) {
-      const MonteCarloEstimate e = monteCarlo.irradiance(penumbra[i].p, penumbra[i].n, options);
-      const double rel = (e.mean.r - exact[i]) / exact[i];
+      const auto& [q, exact] = penumbra[i];
+      const MonteCarloEstimate e = monteCarlo.irradiance(q.p, q.n, options);
+      const double rel = (e.mean.r - exact) / exact;
       sumSq += rel * rel;
-      sumSe += e.standardError.r / exact[i];
+      sumSe += e.standardError.r / exact;
       rayCount += e.rays;
     }
     const double seconds = secondsSince(start) / penumbra.size();
