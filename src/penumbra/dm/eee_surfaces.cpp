@@ -98,6 +98,26 @@ struct LineHit {
   Vec3 point;
 };
 
+// Per-line marks so that a polygon listed in several cells is tested once. Kept per thread across
+// surfaces: a scene-sized array per traced surface would cost more than short surfaces' tracing.
+struct PolygonMarks {
+  std::vector<unsigned> tested;
+  unsigned stamp = 0;
+
+  unsigned nextLine() {
+    if (++stamp == 0) {  // wrapped around: old marks could equal the new stamp
+      std::fill(tested.begin(), tested.end(), 0u);
+      stamp = 1;
+    }
+    return stamp;
+  }
+  static PolygonMarks& forScene(size_t polygons) {
+    thread_local PolygonMarks marks;
+    if (marks.tested.size() < polygons) marks.tested.resize(polygons, 0);
+    return marks;
+  }
+};
+
 class Tracer {
  public:
   Tracer(EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
@@ -171,7 +191,7 @@ class Tracer {
     // Cells in order from the light: stop once the nearest receiver found lies before the next
     // cell's entry (nothing farther can be nearer, and every blocker lies before the contact).
     double nearest = INFINITY;
-    ++stamp_;
+    const unsigned stamp = marks_.nextLine();
     for (int cell : grid_.cellsAlongSegment(line->source, end)) {
       cells_.push_back(cell);
       if (cells_.size() > cellsLimit_) {
@@ -181,8 +201,8 @@ class Tracer {
       }
       if (nearest < INFINITY && entryParameter(grid_.cellBounds(cell), *line) > nearest) break;
       for (PolygonId id : grid_.polygonsInCell(cell)) {
-        if (tested_[id] == stamp_) continue;
-        tested_[id] = stamp_;
+        if (marks_.tested[id] == stamp) continue;
+        marks_.tested[id] = stamp;
         if (id == surface_.light || isContact(id)) continue;
         const auto u = crossing(scene_.polygons[id], line->source, line->direction);
         if (!u || *u <= 0) continue;
@@ -234,8 +254,7 @@ class Tracer {
   std::vector<DiscontinuitySegment> segments_;
   std::vector<int> cells_;  // every cell a traced line crossed (sorted at the end)
   size_t cellsLimit_ = 4096;
-  std::vector<unsigned> tested_ = std::vector<unsigned>(scene_.polygons.size(), 0);
-  unsigned stamp_ = 0;  // per-line marks: a polygon in several cells is tested once
+  PolygonMarks& marks_ = PolygonMarks::forScene(scene_.polygons.size());
 };
 
 bool sharesVertex(const SceneEdge& a, const SceneEdge& b) {
