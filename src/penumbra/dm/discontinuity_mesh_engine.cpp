@@ -132,7 +132,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
   for (PolygonId light : options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{}) {
     const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
-    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, *grid_, light, firstId))
+    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, firstId))
       eeeSurfaces_.push_back(std::move(s));
   }
   for (EeeSurface& s : eeeSurfaces_) {
@@ -142,6 +142,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       perReceiver[segment.receiver].push_back(std::move(segment));
     }
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
+    stats_.eeeSurfacesTruncated += s.truncated ? 1 : 0;
   }
   stats_.surfacesEee = int(eeeSurfaces_.size());
   stats_.secondsEee = secondsSince(start);

@@ -35,6 +35,7 @@ struct DmStats {
   int surfacesOccluderPlaneEdge = 0;  // occluder edge × an occluder polygon's plane
   int surfacesEee = 0;                // light edge × two occluder edges (traced as polylines)
   long long eeeSegments = 0;
+  int eeeSurfacesTruncated = 0;  // tracing ended at its line budget (degenerate conics)
   double secondsEee = 0;
   long long storedIntersections = 0;
   long long visibleSegments = 0;

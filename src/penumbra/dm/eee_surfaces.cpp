@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <optional>
+#include <unordered_set>
 
 #include "penumbra/geometry/predicates.h"
 
@@ -230,6 +232,13 @@ class Tracer {
     const bool same = h0.visible && h1.visible && h0.receiver == h1.receiver;
     const bool bothInvisible = !h0.visible && !h1.visible;
     if (depth >= 36) return;  // bracketed to 2^-36 of a sample interval: end the piece here
+    // Where the conic degenerates (every critical line through one receiver point, e.g. two
+    // occluder edges whose lines meet on the floor) visibility flickers by rounding on every
+    // interval and the bisection would branch at every level: end such a surface and count it.
+    if (++lines_ > kMaxLines) {
+      surface_.truncated = true;
+      return;
+    }
     const double tm = 0.5 * (t0 + t1);
     const LineHit hm = hit(tm);
     if (same && hm.visible && hm.receiver == h0.receiver &&
@@ -254,6 +263,8 @@ class Tracer {
   std::vector<DiscontinuitySegment> segments_;
   std::vector<int> cells_;  // every cell a traced line crossed (sorted at the end)
   size_t cellsLimit_ = 4096;
+  static constexpr int kMaxLines = 1 << 14;
+  int lines_ = 0;
   PolygonMarks& marks_ = PolygonMarks::forScene(scene_.polygons.size());
 };
 
@@ -269,53 +280,71 @@ bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
 
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
-                                             const UniformGrid& grid, PolygonId light,
-                                             SurfaceId firstId) {
+                                             const std::vector<DiscontinuitySurface>& evSurfaces,
+                                             PolygonId light, SurfaceId firstId) {
   std::vector<EeeSurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
-  const double reach = 2 * scene.bounds.diagonalLength();
+  const int lightEdges = int(lv.size());
   const auto inFront = [&](const SceneEdge& e) {
     return lightPolygon.plane.signedDistance(adjacency.position(e.a)) > 0 ||
            lightPolygon.plane.signedDistance(adjacency.position(e.b)) > 0;
   };
-  const auto usable = [&](const SceneEdge& e) {
+  const auto usable = [&](EdgeId id) {
+    const SceneEdge& e = adjacency.edges()[id];
     return e.canBeSilhouette && !touchesLight(e.polygons, light) && inFront(e);
   };
-  std::vector<int> seen(adjacency.edges().size(), -1);
-  for (size_t i = 0; i < adjacency.edges().size(); ++i) {
+  std::unordered_set<std::uint64_t> tried;
+  const auto consider = [&](int l, EdgeId i, EdgeId j) {
+    if (i == j) return;
+    if (j < i) std::swap(i, j);
+    const std::uint64_t key =
+        (std::uint64_t(std::uint32_t(i)) * adjacency.edges().size() + std::uint32_t(j)) *
+            std::uint64_t(lightEdges) +
+        std::uint64_t(l);
+    if (!tried.insert(key).second) return;
     const SceneEdge& e1 = adjacency.edges()[i];
-    if (!usable(e1)) continue;
+    const SceneEdge& e2 = adjacency.edges()[j];
+    if (!usable(i) || !usable(j) || sharesVertex(e1, e2)) return;
     const Edge3 first{adjacency.position(e1.a), adjacency.position(e1.b)};
-    // What the light sees through e1, and the space between them.
-    Box3 region = lightPolygon.bounds;
-    for (const Vec3& x : {first.a, first.b}) {
-      region.extend(x);
-      for (const Vec3& c : lv) region.extend(x + normalize(x - c) * reach);
+    const Edge3 second{adjacency.position(e2.a), adjacency.position(e2.b)};
+    // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event (or
+    // nothing), not a quadric.
+    if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) return;
+    const Edge3 lightEdge{lv[l], lv[(l + 1) % lv.size()]};
+    // An occluder edge coplanar with the light edge (e.g. parallel to it) makes the lines one
+    // plane: the EV fans of that plane already hold the event.
+    if (orientation3d(lightEdge.a, lightEdge.b, first.a, first.b) == Sign::kZero ||
+        orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
+      return;
+    if (validRanges(lightEdge, first, second).empty()) return;
+    surfaces.push_back({firstId + SurfaceId(surfaces.size()), light, l, i, j, {}});
+  };
+  // Every range of critical lines ends on a line through a light vertex or an occluder edge's
+  // endpoint (validRanges), and such a line lies in the emitter EV fan of that vertex, where the
+  // other edge's polygon cuts the fan: the fans' stored intersections hold every pair.
+  for (const DiscontinuitySurface& s : evSurfaces) {
+    if (s.light != light) continue;
+    std::vector<std::pair<int, EdgeId>> generators;  // (light edge, occluder edge)
+    if (s.kind == SurfaceKind::kEmitterVertexOccluderEdge) {
+      generators.push_back({s.lightFeature, EdgeId(s.occluderFeature)});
+      generators.push_back(
+          {(s.lightFeature + lightEdges - 1) % lightEdges, EdgeId(s.occluderFeature)});
+    } else if (s.kind == SurfaceKind::kEmitterEdgeOccluderVertex) {
+      for (EdgeId e : adjacency.vertices()[s.occluderFeature].edges)
+        generators.push_back({s.lightFeature, e});
+    } else if (s.kind == SurfaceKind::kLightEdgeOccluderPlane) {
+      // Where an occluder edge stops being a silhouette as the light point moves along a light
+      // edge: the line lies in one of the edge's faces' planes, in this fan.
+      generators.push_back({s.lightFeature, EdgeId(s.occluderFeature)});
+    } else {
+      continue;
     }
-    for (PolygonId id : grid.polygonsInBox(region)) {
-      const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
+    for (const SurfaceIntersection& cut : s.intersections) {
+      const std::vector<VertexId>& corners = adjacency.polygonVertices(cut.polygon);
       for (size_t k = 0; k < corners.size(); ++k) {
         const EdgeId j = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
-        if (j <= EdgeId(i) || seen[j] == int(i)) continue;
-        seen[j] = int(i);
-        const SceneEdge& e2 = adjacency.edges()[j];
-        if (!usable(e2) || sharesVertex(e1, e2)) continue;
-        const Edge3 second{adjacency.position(e2.a), adjacency.position(e2.b)};
-        // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event
-        // (or nothing), not a quadric.
-        if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) continue;
-        for (size_t l = 0; l < lv.size(); ++l) {
-          const Edge3 lightEdge{lv[l], lv[(l + 1) % lv.size()]};
-          // An occluder edge coplanar with the light edge (e.g. parallel to it) makes the lines
-          // one plane: the EV fans of that plane already hold the event.
-          if (orientation3d(lightEdge.a, lightEdge.b, first.a, first.b) == Sign::kZero ||
-              orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
-            continue;
-          if (validRanges(lightEdge, first, second).empty()) continue;
-          surfaces.push_back(
-              {firstId + SurfaceId(surfaces.size()), light, int(l), EdgeId(i), j, {}});
-        }
+        for (const auto& [l, i] : generators) consider(l, i, j);
       }
     }
   }

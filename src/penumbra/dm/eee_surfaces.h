@@ -25,15 +25,17 @@ struct EeeSurface {
   int lightEdge = 0;             // light edge lightEdge → lightEdge + 1
   EdgeId first = 0, second = 0;  // occluder edges (EdgeAdjacency)
   std::vector<int> cells;        // grid cells the traced lines cross (sorted)
+  bool truncated = false;        // tracing stopped at its line budget (a degenerate conic)
 };
 
 // Surfaces for every light edge and pair of silhouette-capable occluder edges (not sharing a
-// vertex) that some line meeting all three crosses in front of the light. Candidate second edges
-// come from the grid cells around the region the light sees through the first edge.
+// vertex) that some line meeting all three crosses in front of the light. The pairs come from the
+// emitter EV surfaces of `light` after casting: every range of such lines ends on a line of one of
+// their fans, where the other edge's polygon cuts it.
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
-                                             const UniformGrid& grid, PolygonId light,
-                                             SurfaceId firstId);
+                                             const std::vector<DiscontinuitySurface>& evSurfaces,
+                                             PolygonId light, SurfaceId firstId);
 
 // The visible pieces of `surface` on receivers, as polylines split into segments (and fills
 // surface.cells).
