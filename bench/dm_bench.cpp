@@ -59,25 +59,23 @@ std::vector<VertexSample> meshVertices(const DiscontinuityMeshEngine& engine) {
   return out;
 }
 
-void runScene(const std::string& name, const std::string& path, bool monteCarlo, bool eee) {
+void runScene(const std::string& name, const std::string& path, bool monteCarlo) {
   const Scene scene = loadScene(path);
   const PosedScene posed = poseAt(scene, 0);
-  DmOptions engineOptions;
-  engineOptions.eeeSurfaces = eee;
-  DiscontinuityMeshEngine engine(engineOptions);
+  DiscontinuityMeshEngine engine;
   const auto start = Clock::now();
   engine.build(PosedScene(posed));
   const double total = secondsSince(start);
   const DmStats& s = engine.stats();
   std::printf(
-      "%-14s %6d %7.3f | %5.3f %5.3f %5.3f %5.3f %5.3f %5.3f | %6d %6d %6d %6d %6d | %8lld "
-      "%7lld %7lld | %7lld %7lld %7lld | %7.1f %7.1f %8.1f %8.1f %7.1f\n",
+      "%-14s %6d %7.3f | %5.3f %5.3f %5.3f %5.3f %5.3f %5.3f %5.3f | %6d %6d %6d %6d %6d | %8lld "
+      "%7lld %7lld | %7lld %7lld %7lld %5lld | %7.1f %7.1f %8.1f %8.1f %7.1f\n",
       name.c_str(), scene.polygonCount(), total, s.secondsSurfaces, s.secondsCasting,
       s.secondsVisibility, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
-      s.surfacesEmitterVertex, s.surfacesEmitterEdge, s.surfacesNonEmitter,
+      s.secondsVerification, s.surfacesEmitterVertex, s.surfacesEmitterEdge, s.surfacesNonEmitter,
       s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge, s.surfacesEee, s.storedIntersections,
-      s.eeeSegments, s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces, kib(s.gridBytes),
-      kib(s.surfaceCellBytes), kib(s.intersectionBytes), kib(s.meshBytes),
+      s.eeeSegments, s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces, s.unresolvedFaces,
+      kib(s.gridBytes), kib(s.surfaceCellBytes), kib(s.intersectionBytes), kib(s.meshBytes),
       kib(s.backprojectionBytes));
 
   // Irradiance at the mesh vertices: backprojection vs reference.
@@ -167,19 +165,14 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "# Full discontinuity mesh, one core. Seconds per stage: surfaces, casting, visibility, "
-      "EEE tracing, meshing, backprojections. Surfaces: EV light-vertex, EV light-edge, "
-      "non-emitter EV, occluder-plane, EEE. Then stored intersections, EEE polyline segments, "
-      "visible EV segments. Memory in KiB: grid lists, per-surface cell lists, stored "
-      "intersections, meshes, backprojections.\n");
-  std::printf("%-14s %6s %7s | %35s | %34s | %24s | %23s | %s\n", "scene", "polys", "total s",
-              "stages s", "surfaces", "inters. eee-segs visible", "mesh vertices/edges/faces",
+      "EEE tracing, meshing, backprojections, face verification. Surfaces: EV light-vertex, EV "
+      "light-edge, non-emitter EV, occluder-plane, EEE. Then stored intersections, EEE polyline "
+      "segments, visible EV segments; mesh vertices, edges, faces and unresolved faces. Memory "
+      "in KiB: grid lists, per-surface cell lists, stored intersections, meshes, "
+      "backprojections.\n");
+  std::printf("%-14s %6s %7s | %41s | %34s | %24s | %29s | %s\n", "scene", "polys", "total s",
+              "stages s", "surfaces", "inters. eee-segs visible", "mesh v/e/f unresolved",
               "memory KiB");
-  // The generated rooms run without EEE surfaces: their tracing takes minutes there (see
-  // DmOptions); the desk scenes run with everything.
-  for (const auto& [name, path] : scenes) {
-    const bool generatedScene = name.rfind("generated", 0) == 0;
-    if (generatedScene) std::printf("(%s without EEE surfaces)\n", name.c_str());
-    runScene(name, path, name == "desk-475" || quick, !generatedScene);
-  }
+  for (const auto& [name, path] : scenes) runScene(name, path, name == "desk-475" || quick);
   return 0;
 }

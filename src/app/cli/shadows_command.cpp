@@ -28,14 +28,19 @@ nlohmann::json statsJson(const DmStats& s) {
             {"eee_light_edge_occluder_plane", s.surfacesOccluderPlane},
             {"ev_occluder_plane_occluder_edge", s.surfacesOccluderPlaneEdge},
             {"eee_light_edge_two_occluder_edges", s.surfacesEee},
-            {"eee_three_occluder_edges", 0},
+            {"eee_three_occluder_edges", nullptr},  // not built (see the engine's header)
             {"total", s.surfacesEmitterVertex + s.surfacesEmitterEdge + s.surfacesNonEmitter +
                           s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesEee}}},
           {"eee_polyline_segments", s.eeeSegments},
+          {"eee_surfaces_truncated", s.eeeSurfacesTruncated},
           {"stored_intersections", s.storedIntersections},
           {"visible_segments", s.visibleSegments},
           {"contact_segments", s.contactSegments},
-          {"mesh", {{"vertices", s.meshVertices}, {"edges", s.meshEdges}, {"faces", s.meshFaces}}},
+          {"mesh",
+           {{"vertices", s.meshVertices},
+            {"edges", s.meshEdges},
+            {"faces", s.meshFaces},
+            {"unresolved_faces", s.unresolvedFaces}}},
           {"backprojection_vertices", s.backprojectionVertices},
           {"unlabelled_backprojections", s.unlabelledBackprojections},
           {"memory_bytes",
@@ -49,6 +54,7 @@ nlohmann::json statsJson(const DmStats& s) {
             {"casting", s.secondsCasting},
             {"visibility", s.secondsVisibility},
             {"eee_tracing", s.secondsEee},
+            {"face_verification", s.secondsVerification},
             {"meshing", s.secondsMeshing},
             {"backprojections", s.secondsBackprojections}}}};
 }

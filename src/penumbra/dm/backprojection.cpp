@@ -159,6 +159,19 @@ Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, 
   return result;
 }
 
+bool sameLabels(const Backprojection& a, const Backprojection& b) {
+  const auto flat = [](const Backprojection& bp) {
+    std::vector<std::array<int, 6>> labels;
+    for (const auto& cycle : bp.cycles)
+      for (const BackprojectionVertex& v : cycle)
+        labels.push_back({int(v.kind), v.lightFeature, v.first.polygon, v.first.corner,
+                          v.second.polygon, v.second.corner});
+    std::sort(labels.begin(), labels.end());
+    return labels;
+  };
+  return a.light == b.light && a.cycles.size() == b.cycles.size() && flat(a) == flat(b);
+}
+
 std::vector<Polygon3> BackprojectionBuilder::evaluate(const Backprojection& bp, const Vec3& q,
                                                       const Vec3& n,
                                                       std::optional<PolygonId> receiver) const {

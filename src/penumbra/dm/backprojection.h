@@ -42,6 +42,7 @@ struct BackprojectionVertex {
   BackprojectionVertexKind kind = BackprojectionVertexKind::kLightVertex;
   int lightFeature = 0;
   FeatureRef first, second;
+  bool operator==(const BackprojectionVertex&) const = default;
 };
 
 struct Backprojection {
@@ -49,6 +50,10 @@ struct Backprojection {
   bool isLabelled = true;  // false: evaluation recomputes the region at the query point
   std::vector<std::vector<BackprojectionVertex>> cycles;  // orientation as the visible rings
 };
+
+// Do two labelled backprojections name the same features (cycles compared as multisets of vertex
+// labels, so a rotated starting vertex does not count as a change)?
+bool sameLabels(const Backprojection& a, const Backprojection& b);
 
 class BackprojectionBuilder {
  public:

@@ -168,9 +168,13 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       const bool open1 = ends[endKey(segment, segment.p1)] == 1;
       segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
     }
-    const std::vector<DiscontinuitySegment> contact = contactSegments(scene, *grid_, receiver);
-    stats_.contactSegments += (long long)contact.size();
-    segments.insert(segments.end(), contact.begin(), contact.end());
+    // Contact lines end exactly at occluder vertices where computed events start (the foot of an
+    // edge standing on the receiver): extended too, so that an event passing an ulp beside that
+    // end still crosses them.
+    for (const DiscontinuitySegment& segment : contactSegments(scene, *grid_, receiver)) {
+      segments.push_back(extended(segment, by, by));
+      ++stats_.contactSegments;
+    }
     data.mesh.insert(segments);
     stats_.meshVertices += data.mesh.vertexCount();
     stats_.meshEdges += data.mesh.edgeCount();
@@ -195,10 +199,43 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
         }
         faceData.perLight.push_back(std::move(bp));
       }
+      if (options_.verifyFaces) {
+        const auto verifying = Clock::now();
+        faceData.unresolved = !labelsHoldAtCorners(data.mesh, face, faceData);
+        stats_.secondsVerification += secondsSince(verifying);
+      }
+      stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
       data.faces.push_back(std::move(faceData));
     }
   }
-  stats_.secondsBackprojections = secondsSince(start);
+  stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
+}
+
+bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
+                                                  const FaceData& data) const {
+  const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
+  // Events meeting at one point leave clusters of corners a few ulps apart: one check each.
+  const double apart = 1e-7 * posed_->bounds.diagonalLength();
+  std::vector<Vec3> checked;
+  for (const Polygon3& cycle : mesh.faceBoundary(face.index))
+    for (const Vec3& corner : cycle) {
+      if (std::any_of(checked.begin(), checked.end(),
+                      [&](const Vec3& c) { return distance(c, corner) <= apart; }))
+        continue;
+      checked.push_back(corner);
+      // Just inside the face near the corner; a point that falls outside it (a concave corner,
+      // a sliver) proves nothing and is skipped.
+      const Vec3 p = corner + (face.samplePoint - corner) * kCornerInset;
+      if (mesh.locate(p) != face.index) continue;
+      for (size_t l = 0; l < posed_->lights.size(); ++l) {
+        const Backprojection& atSample = data.perLight[l];
+        if (!atSample.isLabelled) continue;
+        const Backprojection here =
+            backprojections_->compute(posed_->lights[l], p, receiver.plane.normal, receiver.id);
+        if (here.isLabelled && !sameLabels(here, atSample)) return false;
+      }
+    }
+  return true;
 }
 
 const ReceiverMesh* DiscontinuityMeshEngine::meshOf(PolygonId receiver) const {
@@ -208,8 +245,16 @@ const ReceiverMesh* DiscontinuityMeshEngine::meshOf(PolygonId receiver) const {
 
 Rgb DiscontinuityMeshEngine::faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const {
   const ReceiverData& data = receivers_.at(receiver);
-  return backprojections_->irradiance(data.faces[face].perLight, p,
-                                      posed_->polygons[receiver].plane.normal, receiver);
+  const Vec3& n = posed_->polygons[receiver].plane.normal;
+  if (data.faces[face].unresolved) return atPoint(p, n, receiver);
+  return backprojections_->irradiance(data.faces[face].perLight, p, n, receiver);
+}
+
+Rgb DiscontinuityMeshEngine::atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const {
+  std::vector<Backprojection> here;
+  for (PolygonId light : posed_->lights)
+    here.push_back(backprojections_->compute(light, p, n, receiver));
+  return backprojections_->irradiance(here, p, n, receiver);
 }
 
 std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3& n) const {
@@ -220,7 +265,10 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
   const WorldPolygon& receiver = posed_->polygons[match->polygon];
   const Vec3 onPlane = receiver.plane.project(p);
   const auto face = it->second.mesh.locate(onPlane);
-  if (!face) return std::nullopt;
+  // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
+  // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
+  if (!face) return atPoint(p, n, match->polygon);
+  if (it->second.faces[*face].unresolved) return atPoint(p, n, match->polygon);
   // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
   // the backprojection is computed at the point itself there.
   const double near = 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
@@ -229,10 +277,7 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
     const double len2 = dot(ab, ab);
     const double t = len2 > 0 ? std::clamp(dot(onPlane - a, ab) / len2, 0.0, 1.0) : 0.0;
     if (distance(onPlane, a + ab * t) > near) continue;
-    std::vector<Backprojection> here;
-    for (PolygonId light : posed_->lights)
-      here.push_back(backprojections_->compute(light, p, n, match->polygon));
-    return backprojections_->irradiance(here, p, n, match->polygon);
+    return atPoint(p, n, match->polygon);
   }
   return backprojections_->irradiance(it->second.faces[*face].perLight, p, n, match->polygon);
 }

@@ -43,10 +43,11 @@ struct DmStats {
   long long meshVertices = 0, meshEdges = 0, meshFaces = 0;
   long long backprojectionVertices = 0;  // summed over faces and lights
   long long unlabelledBackprojections = 0;
+  long long unresolvedFaces = 0;  // faces whose labels differ at a corner (see DmOptions)
   size_t gridBytes = 0, surfaceCellBytes = 0, intersectionBytes = 0, meshBytes = 0,
          backprojectionBytes = 0;
   double secondsSurfaces = 0, secondsCasting = 0, secondsVisibility = 0, secondsMeshing = 0,
-         secondsBackprojections = 0;
+         secondsBackprojections = 0, secondsVerification = 0;
 };
 
 struct DmOptions {
@@ -55,6 +56,11 @@ struct DmOptions {
   // 1k-polygon room takes minutes with them), so large runs may turn them off and accept faces
   // that span an EEE event there.
   bool eeeSurfaces = true;
+  // Check every face's labels just inside its corners against those at its sample point. A face
+  // where they differ is crossed by an event the mesh lacks (a missing event is a defect of the
+  // mesh, counted in DmStats::unresolvedFaces); queries there compute the backprojection at the
+  // point, so irradiance stays exact. Off: every face answers from its sample's labels.
+  bool verifyFaces = true;
 };
 
 class DiscontinuityMeshEngine {
@@ -64,6 +70,9 @@ class DiscontinuityMeshEngine {
   // EEE conics are traced as polylines within this fraction of the scene's size; points closer
   // than twice that to such a polyline get their backprojection computed where they are.
   static constexpr double kEeeChordTolerance = 1e-6;
+  // Face verification samples the points this fraction of the way from each corner to the face's
+  // sample point.
+  static constexpr double kCornerInset = 1e-3;
 
   explicit DiscontinuityMeshEngine(DmOptions options = {});
   ~DiscontinuityMeshEngine();
@@ -87,7 +96,13 @@ class DiscontinuityMeshEngine {
  private:
   struct FaceData {
     std::vector<Backprojection> perLight;
+    // The labels at the face's sample differ from those just inside one of its corners: an event
+    // the mesh lacks crosses the face, and its irradiance is computed at each query point.
+    bool unresolved = false;
   };
+  bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
+                           const FaceData& data) const;
+  Rgb atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const;
   struct ReceiverData {
     ReceiverMesh mesh;
     std::vector<FaceData> faces;

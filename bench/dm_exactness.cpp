@@ -1,0 +1,225 @@
+// Acceptance run of the exact soft-shadow engine: at random receiver points of the bundled scenes,
+// of seeded generated rooms and of seeded penumbra-rich scenes (rotated boxes under a large
+// light), and of triangulated copies of all of them, the irradiance from the discontinuity mesh
+// (the located face's backprojection) against the per-point exact reference (the light polygon
+// clipped by every occluder's projection, no mesh). A point differs when the relative difference
+// exceeds 1e-9 (in the umbra, relative to 1e-11). Half the points are uniform over the receivers'
+// area, half are drawn among penumbra points (5-95% of the unoccluded irradiance). Run twice:
+// faces answering from their sample's labels alone (the mesh as built), then with face
+// verification (DmOptions::verifyFaces), with the count of faces it found unresolved.
+//
+// Usage: dm_exactness [--points N]   (N per scene and copy, default 2000)
+// Prints one line per scene and copy, then the totals; exits 0 (a report, not a test).
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+#include "penumbra/geometry/predicates.h"
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/scene/receiver_sampling.h"
+#include "penumbra/scene/scene_generator.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/uniform_grid.h"
+#include "penumbra_points.h"
+
+using namespace penumbra;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A 4 x 3 x 4 room (y up) with a 1.2 m square light under the ceiling and four boxes turned about
+// random axes at random heights: wide penumbrae that overlap, EEE events everywhere.
+std::string rotatedBoxesJson(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::ostringstream json;
+  json << R"({"penumbra": 1, "materials": {"white": {"reflectance": [0.6, 0.6, 0.6]},
+    "lamp": {"reflectance": [0, 0, 0], "emission": [10, 10, 10]}}, "objects": [
+    {"name": "room", "material": "white", "polygons": [
+      [[0,0,0],[0,0,4],[4,0,4],[4,0,0]], [[0,3,0],[4,3,0],[4,3,4],[0,3,4]],
+      [[0,0,0],[4,0,0],[4,3,0],[0,3,0]], [[0,0,4],[0,3,4],[4,3,4],[4,0,4]],
+      [[0,0,0],[0,3,0],[0,3,4],[0,0,4]], [[4,0,0],[4,0,4],[4,3,4],[4,3,0]]]},
+    {"name": "lamp", "material": "lamp",
+     "polygons": [[[1.4,2.95,1.4],[2.6,2.95,1.4],[2.6,2.95,2.6],[1.4,2.95,2.6]]]})";
+  for (int k = 0; k < 4; ++k) {
+    const double sx = 0.1 + 0.3 * u(rng), sy = 0.05 + 0.1 * u(rng), sz = 0.1 + 0.3 * u(rng);
+    const double ax = u(rng) - 0.5, ay = u(rng) - 0.5, az = u(rng) - 0.5, degrees = 170 * u(rng);
+    const double cx = 1 + 2 * u(rng), cy = 0.6 + 0.4 * k, cz = 1 + 2 * u(rng);
+    json << R"(, {"name": "box)" << k << R"(", "material": "white", "polygons": [)";
+    const double x[2] = {-sx, sx}, y[2] = {-sy, sy}, z[2] = {-sz, sz};
+    const auto v = [&](int i, int j, int l) {
+      std::ostringstream corner;
+      corner << '[' << x[i] << ',' << y[j] << ',' << z[l] << ']';
+      return corner.str();
+    };
+    json << "[" << v(0, 0, 0) << "," << v(1, 0, 0) << "," << v(1, 0, 1) << "," << v(0, 0, 1)
+         << "],[" << v(0, 1, 0) << "," << v(0, 1, 1) << "," << v(1, 1, 1) << "," << v(1, 1, 0)
+         << "],[" << v(0, 0, 0) << "," << v(0, 1, 0) << "," << v(1, 1, 0) << "," << v(1, 0, 0)
+         << "],[" << v(0, 0, 1) << "," << v(1, 0, 1) << "," << v(1, 1, 1) << "," << v(0, 1, 1)
+         << "],[" << v(0, 0, 0) << "," << v(0, 0, 1) << "," << v(0, 1, 1) << "," << v(0, 1, 0)
+         << "],[" << v(1, 0, 0) << "," << v(1, 1, 0) << "," << v(1, 1, 1) << "," << v(1, 0, 1)
+         << "]], \"transform\": {\"translate\": [" << cx << "," << cy << "," << cz
+         << "], \"rotate\": {\"axis\": [" << ax << "," << ay << "," << az
+         << "], \"degrees\": " << degrees << "}}}";
+  }
+  json << "]}";
+  return json.str();
+}
+
+bool isConvex(const Polygon3& polygon) {
+  if (polygon.size() == 3) return true;
+  Vec3 normal{0, 0, 0};
+  for (size_t i = 0; i < polygon.size(); ++i)
+    normal = normal + cross(polygon[i], polygon[(i + 1) % polygon.size()]);
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3& a = polygon[i];
+    const Vec3& b = polygon[(i + 1) % polygon.size()];
+    const Vec3& c = polygon[(i + 2) % polygon.size()];
+    if (dot(cross(b - a, c - b), normal) <= 0) return false;
+  }
+  return true;
+}
+
+// Every convex non-emitting polygon split into a fan of triangles (the lights stay whole: a split
+// light is two lights with other events). Returns how many polygons were split.
+int triangulate(Scene& scene) {
+  int split = 0;
+  for (SceneObject& object : scene.objects) {
+    SceneObject copy = object;
+    copy.polygons.clear();
+    copy.polygonMaterial.clear();
+    copy.polygonOrigin.clear();
+    for (size_t i = 0; i < object.polygons.size(); ++i) {
+      const Polygon3& p = object.polygons[i];
+      const bool emits = scene.materials[object.polygonMaterial[i]].emission.maxComponent() > 0;
+      if (emits || p.size() == 3 || !isConvex(p)) {
+        copy.polygons.push_back(p);
+        copy.polygonMaterial.push_back(object.polygonMaterial[i]);
+        copy.polygonOrigin.push_back(object.polygonOrigin[i]);
+        continue;
+      }
+      ++split;
+      for (size_t k = 1; k + 1 < p.size(); ++k) {
+        copy.polygons.push_back({p[0], p[k], p[k + 1]});
+        copy.polygonMaterial.push_back(object.polygonMaterial[i]);
+        copy.polygonOrigin.push_back(object.polygonOrigin[i]);
+      }
+    }
+    object = std::move(copy);
+  }
+  return split;
+}
+
+struct Tally {
+  long long points = 0, differ = 0;
+  double worst = 0;
+};
+
+Tally compare(const std::string& name, const Scene& scene, int points, std::uint64_t seed,
+              bool verifyFaces) {
+  const PosedScene posed = poseAt(scene, 0);
+  const auto start = Clock::now();
+  DiscontinuityMeshEngine engine({.eeeSurfaces = true, .verifyFaces = verifyFaces});
+  engine.build(PosedScene(posed));
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const UniformGrid grid(posed);
+  const ExactReference reference(posed, &grid);
+  std::vector<ReceiverPoint> queries = sampleReceiverPoints(posed, points / 2, seed);
+  for (const bench::PenumbraPoint& q :
+       bench::samplePenumbraPoints(posed, reference, size_t(points - points / 2), seed + 1))
+    queries.push_back(q.point);
+  Tally tally;
+  std::string first;
+  for (const ReceiverPoint& q : queries) {
+    const Rgb expected = reference.irradiance(q.p, q.n, q.receiver);
+    const std::optional<Rgb> got = engine.irradiance(q.p, q.n);
+    const double scale = std::max(1e-11, expected.maxComponent());
+    const double error =
+        got ? std::max({std::abs(got->r - expected.r), std::abs(got->g - expected.g),
+                        std::abs(got->b - expected.b)}) /
+                  scale
+            : INFINITY;
+    ++tally.points;
+    tally.worst = std::max(tally.worst, error);
+    if (error <= 1e-9) continue;
+    if (tally.differ++ == 0) {
+      char text[200];
+      std::snprintf(text, sizeof text, "first at (%.6f %.6f %.6f) polygon %d: %.9g vs %.9g", q.p.x,
+                    q.p.y, q.p.z, q.receiver, got ? got->r : -1.0, expected.r);
+      first = text;
+    }
+  }
+  const DmStats& s = engine.stats();
+  std::printf("%-34s %6zu %6lld %6lld %9.2e %7.2f %6lld/%-6lld %s\n", name.c_str(),
+              posed.polygons.size(), tally.points, tally.differ, tally.worst, seconds,
+              s.unresolvedFaces, s.meshFaces, first.c_str());
+  std::fflush(stdout);
+  return tally;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int points = 2000;
+  for (int i = 1; i + 1 < argc; ++i)
+    if (!std::strcmp(argv[i], "--points")) points = std::atoi(argv[i + 1]);
+  const std::string root = PENUMBRA_SOURCE_DIR;
+  const auto tmp = std::filesystem::temp_directory_path() / "penumbra-bench";
+  std::filesystem::create_directories(tmp);
+  const auto written = [&](const std::string& name, const std::string& json) {
+    const auto path = tmp / (name + ".json");
+    std::ofstream(path) << json;
+    return path.string();
+  };
+  std::vector<std::pair<std::string, std::string>> scenes = {
+      {"cornell-box", root + "/scenes/cornell-box/cornell-box.json"},
+      {"desk-145", root + "/scenes/office-desk/desk-145.json"},
+      {"desk-307", root + "/scenes/office-desk/desk-307.json"},
+      {"desk-475", root + "/scenes/office-desk/desk-475.json"},
+      {"chair-room", root + "/scenes/chair-room/chair-room.json"},
+  };
+  for (std::uint64_t seed : {1, 2, 3})
+    scenes.push_back(
+        {"generated-300-seed" + std::to_string(seed),
+         written("exact-gen-300-" + std::to_string(seed), generateSceneJson({300, seed, 2}))});
+  for (std::uint64_t seed : {11, 12, 13, 14})
+    scenes.push_back({"rotated-boxes-seed" + std::to_string(seed),
+                      written("exact-boxes-" + std::to_string(seed), rotatedBoxesJson(seed))});
+
+  std::printf("# dm vs exact reference, %d points per scene (half uniform, half penumbra)\n",
+              points);
+  std::printf("%-34s %6s %6s %6s %9s %7s %s\n", "scene", "polys", "points", "differ", "worst",
+              "build s", "unresolved/faces");
+  for (bool verifyFaces : {false, true}) {
+    std::printf("\n## faces %s\n", verifyFaces ? "verified at their corners (the default)"
+                                               : "answering from their sample's labels only");
+    Tally total, totalTriangulated;
+    std::uint64_t seed = 100;
+    for (const auto& [name, path] : scenes) {
+      Scene scene = loadScene(path);
+      const Tally a = compare(name, scene, points, seed, verifyFaces);
+      triangulate(scene);
+      const Tally b = compare(name + " (triangles)", scene, points, seed + 7, verifyFaces);
+      total.points += a.points;
+      total.differ += a.differ;
+      totalTriangulated.points += b.points;
+      totalTriangulated.differ += b.differ;
+      seed += 17;
+    }
+    std::printf("total: %lld of %lld points differ; triangulated copies: %lld of %lld\n",
+                total.differ, total.points, totalTriangulated.differ, totalTriangulated.points);
+  }
+  return 0;
+}
