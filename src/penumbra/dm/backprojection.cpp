@@ -159,17 +159,47 @@ Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, 
   return result;
 }
 
-bool sameLabels(const Backprojection& a, const Backprojection& b) {
-  const auto flat = [](const Backprojection& bp) {
-    std::vector<std::array<int, 6>> labels;
+bool sameLabels(const Backprojection& a, const Backprojection& b, const EdgeAdjacency& adjacency) {
+  // A feature is named through one of its polygons; an edge shared by two polygons (or a vertex
+  // shared by several) may be named through either. Compare scene edges and vertices instead.
+  const auto vertexOf = [&](const FeatureRef& f) {
+    return adjacency.polygonVertices(f.polygon)[f.corner];
+  };
+  const auto edgeOf = [&](const FeatureRef& f) {
+    const std::vector<VertexId>& corners = adjacency.polygonVertices(f.polygon);
+    return adjacency.edgeBetween(corners[f.corner], corners[(f.corner + 1) % corners.size()]);
+  };
+  const auto flat = [&](const Backprojection& bp) {
+    std::vector<std::array<int, 4>> labels;
     for (const auto& cycle : bp.cycles)
-      for (const BackprojectionVertex& v : cycle)
-        labels.push_back({int(v.kind), v.lightFeature, v.first.polygon, v.first.corner,
-                          v.second.polygon, v.second.corner});
+      for (const BackprojectionVertex& v : cycle) {
+        std::array<int, 4> label{int(v.kind), v.lightFeature, -1, -1};
+        switch (v.kind) {
+          case BackprojectionVertexKind::kLightVertex:
+          case BackprojectionVertexKind::kLightEdgeHorizon:
+            break;
+          case BackprojectionVertexKind::kOccluderVertex:
+            label[2] = vertexOf(v.first);
+            break;
+          case BackprojectionVertexKind::kOccluderEdgeOccluderEdge:
+            label[2] = edgeOf(v.first);
+            label[3] = edgeOf(v.second);
+            if (label[3] < label[2]) std::swap(label[2], label[3]);
+            break;
+          case BackprojectionVertexKind::kLightEdgeOccluderEdge:
+          case BackprojectionVertexKind::kOccluderEdgeHorizon:
+            label[2] = edgeOf(v.first);
+            break;
+        }
+        labels.push_back(label);
+      }
+    // Sets, not multisets: a degenerate region (a vertex doubled where two features pass through
+    // one point) names the same features.
     std::sort(labels.begin(), labels.end());
+    labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
     return labels;
   };
-  return a.light == b.light && a.cycles.size() == b.cycles.size() && flat(a) == flat(b);
+  return a.light == b.light && flat(a) == flat(b);
 }
 
 std::vector<Polygon3> BackprojectionBuilder::evaluate(const Backprojection& bp, const Vec3& q,

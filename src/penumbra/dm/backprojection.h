@@ -16,6 +16,7 @@
 #include <optional>
 #include <vector>
 
+#include "penumbra/dm/edge_adjacency.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -51,9 +52,9 @@ struct Backprojection {
   std::vector<std::vector<BackprojectionVertex>> cycles;  // orientation as the visible rings
 };
 
-// Do two labelled backprojections name the same features (cycles compared as multisets of vertex
-// labels, so a rotated starting vertex does not count as a change)?
-bool sameLabels(const Backprojection& a, const Backprojection& b);
+// Do two labelled backprojections name the same scene features (compared as sets of vertex labels,
+// so neither a rotated starting vertex nor a doubled degenerate vertex counts as a change)?
+bool sameLabels(const Backprojection& a, const Backprojection& b, const EdgeAdjacency& adjacency);
 
 class BackprojectionBuilder {
  public:

@@ -19,6 +19,15 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
+// Surface ids of the segments that no discontinuity surface makes: below the receiver boundary's
+// id, contact lines of polygon p, then light planes.
+SurfaceId contactSurface(PolygonId p) {
+  return ReceiverMesh::kBoundary - 1 - p;
+}
+SurfaceId lightPlaneSurface(const PosedScene& scene, PolygonId light) {
+  return ReceiverMesh::kBoundary - 1 - SurfaceId(scene.polygons.size()) - light;
+}
+
 // Edges of other polygons lying in the receiver's plane and touching it: contact lines (D0
 // discontinuities), e.g. the footprint of a box resting on the floor.
 std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const UniformGrid& grid,
@@ -33,9 +42,34 @@ std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const
       coplanar = coplanar && std::abs(receiver.plane.signedDistance(v)) <= tolerance;
     if (!coplanar) continue;
     for (size_t i = 0; i < other.vertices.size(); ++i)
-      out.push_back({ReceiverMesh::kBoundary - 1 - id, receiver.id, other.vertices[i],
+      out.push_back({contactSurface(id), receiver.id, other.vertices[i],
                      other.vertices[(i + 1) % other.vertices.size()], 0, 0});
   }
+  return out;
+}
+
+// Where a light's plane crosses the receiver: points beyond it see the light's back, so the whole
+// light disappears there (e.g. the strip of a wall between the light's plane and the ceiling).
+// Crossings of the receiver's boundary paired along the line (the receiver may be concave).
+std::vector<DiscontinuitySegment> lightPlaneSegments(const WorldPolygon& receiver,
+                                                     const WorldPolygon& light, SurfaceId surface) {
+  const Polygon3& v = receiver.vertices;
+  std::vector<Vec3> crossings;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3& a = v[i];
+    const Vec3& b = v[(i + 1) % v.size()];
+    const double da = light.plane.signedDistance(a), db = light.plane.signedDistance(b);
+    if ((da > 0) == (db > 0)) continue;  // half-open: a vertex on the plane counts once
+    crossings.push_back(a + (b - a) * (da / (da - db)));
+  }
+  std::vector<DiscontinuitySegment> out;
+  if (crossings.size() < 2) return out;
+  const Vec3 along = cross(light.plane.normal, receiver.plane.normal);
+  std::sort(crossings.begin(), crossings.end(),
+            [&](const Vec3& x, const Vec3& y) { return dot(x, along) < dot(y, along); });
+  for (size_t i = 0; i + 1 < crossings.size(); i += 2)
+    if (!(crossings[i] == crossings[i + 1]))
+      out.push_back({surface, receiver.id, crossings[i], crossings[i + 1], 0, 0});
   return out;
 }
 
@@ -168,6 +202,12 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       const bool open1 = ends[endKey(segment, segment.p1)] == 1;
       segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
     }
+    for (PolygonId light : scene.lights)
+      for (const DiscontinuitySegment& segment :
+           lightPlaneSegments(receiver, scene.polygons[light], lightPlaneSurface(scene, light))) {
+        segments.push_back(extended(segment, by, by));
+        ++stats_.lightPlaneSegments;
+      }
     // Contact lines end exactly at occluder vertices where computed events start (the foot of an
     // edge standing on the receiver): extended too, so that an event passing an ulp beside that
     // end still crosses them.
@@ -199,9 +239,12 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
         }
         faceData.perLight.push_back(std::move(bp));
       }
-      if (options_.verifyFaces) {
+      // Faces of no area (where extended segments overshoot one another) hold no query and
+      // their labels are degenerate: not verified.
+      const double sliver = kSliverSize * scene.bounds.diagonalLength();
+      if (options_.verifyFaces && face.area > sliver * sliver) {
         const auto verifying = Clock::now();
-        faceData.unresolved = !labelsHoldAtCorners(data.mesh, face, faceData);
+        faceData.unresolved = !labelsHoldAtCorners(data.mesh, face, faceData, data.eeeSegments);
         stats_.secondsVerification += secondsSince(verifying);
       }
       stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
@@ -211,8 +254,21 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
 }
 
-bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
-                                                  const FaceData& data) const {
+bool DiscontinuityMeshEngine::nearEeePolyline(const std::vector<std::pair<Vec3, Vec3>>& segments,
+                                              const Vec3& p) const {
+  const double near = 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
+  for (const auto& [a, b] : segments) {
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    if (distance(p, a + ab * t) <= near) return true;
+  }
+  return false;
+}
+
+bool DiscontinuityMeshEngine::labelsHoldAtCorners(
+    const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
+    const std::vector<std::pair<Vec3, Vec3>>& eeeSegments) const {
   const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
   // Events meeting at one point leave clusters of corners a few ulps apart: one check each.
   const double apart = 1e-7 * posed_->bounds.diagonalLength();
@@ -227,12 +283,15 @@ bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, cons
       // a sliver) proves nothing and is skipped.
       const Vec3 p = corner + (face.samplePoint - corner) * kCornerInset;
       if (mesh.locate(p) != face.index) continue;
+      // Beside an EEE polyline the labels may be those of the conic's other side (the polyline
+      // stands within its tolerance of the conic); queries there are answered at the point.
+      if (nearEeePolyline(eeeSegments, p)) continue;
       for (size_t l = 0; l < posed_->lights.size(); ++l) {
         const Backprojection& atSample = data.perLight[l];
         if (!atSample.isLabelled) continue;
         const Backprojection here =
             backprojections_->compute(posed_->lights[l], p, receiver.plane.normal, receiver.id);
-        if (here.isLabelled && !sameLabels(here, atSample)) return false;
+        if (here.isLabelled && !sameLabels(here, atSample, *adjacency_)) return false;
       }
     }
   return true;
@@ -271,14 +330,7 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
   if (it->second.faces[*face].unresolved) return atPoint(p, n, match->polygon);
   // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
   // the backprojection is computed at the point itself there.
-  const double near = 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
-  for (const auto& [a, b] : it->second.eeeSegments) {
-    const Vec3 ab = b - a;
-    const double len2 = dot(ab, ab);
-    const double t = len2 > 0 ? std::clamp(dot(onPlane - a, ab) / len2, 0.0, 1.0) : 0.0;
-    if (distance(onPlane, a + ab * t) > near) continue;
-    return atPoint(p, n, match->polygon);
-  }
+  if (nearEeePolyline(it->second.eeeSegments, onPlane)) return atPoint(p, n, match->polygon);
   return backprojections_->irradiance(it->second.faces[*face].perLight, p, n, match->polygon);
 }
 

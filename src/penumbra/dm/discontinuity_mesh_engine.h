@@ -40,6 +40,7 @@ struct DmStats {
   long long storedIntersections = 0;
   long long visibleSegments = 0;
   long long contactSegments = 0;
+  long long lightPlaneSegments = 0;  // where a light's plane crosses a receiver
   long long meshVertices = 0, meshEdges = 0, meshFaces = 0;
   long long backprojectionVertices = 0;  // summed over faces and lights
   long long unlabelledBackprojections = 0;
@@ -73,6 +74,8 @@ class DiscontinuityMeshEngine {
   // Face verification samples the points this fraction of the way from each corner to the face's
   // sample point.
   static constexpr double kCornerInset = 1e-3;
+  // Faces narrower than about this fraction of the scene's size are slivers, left unverified.
+  static constexpr double kSliverSize = 1e-7;
 
   explicit DiscontinuityMeshEngine(DmOptions options = {});
   ~DiscontinuityMeshEngine();
@@ -92,6 +95,14 @@ class DiscontinuityMeshEngine {
   const EdgeAdjacency& adjacency() const { return *adjacency_; }
   // Irradiance at a face sample point of a receiver, for every face (for images and statistics).
   Rgb faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const;
+  // Did face verification find labels differing at one of the face's corners (DmOptions)?
+  bool isUnresolved(PolygonId receiver, int face) const {
+    return receivers_.at(receiver).faces[face].unresolved;
+  }
+  // The labelled backprojections of a face (one per light), from its sample point.
+  const std::vector<Backprojection>& faceBackprojections(PolygonId receiver, int face) const {
+    return receivers_.at(receiver).faces[face].perLight;
+  }
 
  private:
   struct FaceData {
@@ -100,8 +111,10 @@ class DiscontinuityMeshEngine {
     // the mesh lacks crosses the face, and its irradiance is computed at each query point.
     bool unresolved = false;
   };
-  bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
-                           const FaceData& data) const;
+  bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
+                           const std::vector<std::pair<Vec3, Vec3>>& eeeSegments) const;
+  // Is p within twice the chord tolerance of one of a receiver's EEE polyline segments?
+  bool nearEeePolyline(const std::vector<std::pair<Vec3, Vec3>>& segments, const Vec3& p) const;
   Rgb atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const;
   struct ReceiverData {
     ReceiverMesh mesh;
