@@ -151,6 +151,13 @@ class Tracer {
     std::sort(cells_.begin(), cells_.end());
     cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
     surface_.cells = cells_;
+    // A surface that ran out of lines is a degenerate conic whose visibility flickers by rounding:
+    // its isolated pieces of rounding-noise length would put thousands of tiny edges at one point
+    // (they made a 1k-polygon room's meshing take minutes).
+    if (surface_.truncated)
+      std::erase_if(segments_, [&](const DiscontinuitySegment& s) {
+        return distance(s.p0, s.p1) < 1e-3 * tolerance_;
+      });
     return segments_;
   }
 
@@ -228,6 +235,24 @@ class Tracer {
     return distance(x, a + ab * t);
   }
 
+  // Pieces come in the order of t. One much shorter than the tolerance (where a change of
+  // receiver or visibility is bracketed, or where the conic degenerates to a point and visibility
+  // flickers by rounding) joins the previous piece when they meet: the polyline stays connected
+  // and within its tolerance. Tiny pieces standing alone are kept (a visible stretch bracketed to
+  // the last bit), except on a surface that ran out of lines (see trace()).
+  void emit(const LineHit& h0, const LineHit& h1, double t0, double t1) {
+    const double tiny = 1e-3 * tolerance_;
+    if (!segments_.empty() && distance(h0.point, h1.point) < tiny) {
+      DiscontinuitySegment& previous = segments_.back();
+      if (previous.receiver == h0.receiver && previous.p1 == h0.point) {
+        previous.p1 = h1.point;
+        previous.u1 = t1;
+        return;
+      }
+    }
+    segments_.push_back({surface_.id, h0.receiver, h0.point, h1.point, t0, t1});
+  }
+
   void refine(double t0, const LineHit& h0, double t1, const LineHit& h1, int depth) {
     const bool same = h0.visible && h1.visible && h0.receiver == h1.receiver;
     const bool bothInvisible = !h0.visible && !h1.visible;
@@ -243,7 +268,7 @@ class Tracer {
     const LineHit hm = hit(tm);
     if (same && hm.visible && hm.receiver == h0.receiver &&
         distanceToSegment(hm.point, h0.point, h1.point) <= tolerance_) {
-      segments_.push_back({surface_.id, h0.receiver, h0.point, h1.point, t0, t1});
+      emit(h0, h1, t0, t1);
       return;
     }
     // Invisible at both ends and in the middle: nothing here (a visible stretch narrower than
