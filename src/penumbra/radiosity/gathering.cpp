@@ -7,6 +7,16 @@
 
 namespace penumbra {
 
+Rgb RadiositySolver::sourceValue(const Link& link, Rgb NodeRadiometry::*quantity) const {
+  if (link.sourceShares.empty()) return radiometry(link.source).*quantity;
+  const Cluster& c = clusters_[link.source.index];
+  Rgb value;
+  for (int i = c.elementBegin; i < c.elementEnd; ++i)
+    value += elements_[rootOrder_[i]].radiometry.*quantity *
+             double(link.sourceShares[i - c.elementBegin]);
+  return value;
+}
+
 // Jacobi gathering over the active links. The direct part depends on emission only, so it is
 // gathered once; the indirect part is iterated to convergence.
 void RadiositySolver::solve() {
@@ -15,7 +25,7 @@ void RadiositySolver::solve() {
   for (const Link& link : links_)
     if (link.active)
       radiometry(link.receiver).gatheredDirect +=
-          radiometry(link.source).emission * link.transfer();
+          sourceValue(link, &NodeRadiometry::emission) * link.transfer();
   stats_.iterations = 0;
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     for (Element& e : elements_) e.radiometry.gatheredIndirect = {};
@@ -23,7 +33,7 @@ void RadiositySolver::solve() {
     for (const Link& link : links_)
       if (link.active)
         radiometry(link.receiver).gatheredIndirect +=
-            radiometry(link.source).reflected * link.transfer();
+            sourceValue(link, &NodeRadiometry::reflected) * link.transfer();
     double largestChange = 0;
     pushPull({NodeRef::kCluster, 0}, {}, {}, largestChange);
     stats_.iterations = iteration + 1;

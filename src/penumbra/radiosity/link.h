@@ -28,6 +28,13 @@ struct Link {
   // variation). Gathering spreads B over the source evenly, which is exact only where B or this
   // is constant: the source oracle weighs it with the variation of B.
   float sourceSpread = 0;
+  // For a cluster source: the share of the unoccluded transfer that comes from each of its root
+  // elements (the solver's rootOrder_ over the cluster's range), summing to 1. Gathering takes
+  // Σ share x B of those elements instead of the cluster's area-mean B: a table top facing the
+  // ceiling sends the ceiling its own radiosity, not the mean with its dark underside and legs
+  // (Sillion 1995's directional clusters, per element). Empty for an element source and for a
+  // passive link (its estimate is re-done when it is re-activated).
+  std::vector<float> sourceShares;
   int shaft = -1;  // index of its shaft in the solver's shafts, -1 when not stored
   bool active = true;
   std::vector<int> children;  // links replacing this one after refinement (passive links)

@@ -314,6 +314,7 @@ void RadiositySolver::estimate(Link& link) {
   else
     sources.push_back(s.index);
   std::vector<double> cumulative(sources.size() + 1, 0);
+  std::vector<double> shares(s.isCluster() ? sources.size() : 0, 0.0);
   const int n = std::max(1, options_.clusterSamples);
   double unoccluded = 0, visible = 0, lowest = 1e300, highest = 0;
   for (int i = 0; i < n; ++i) {
@@ -322,6 +323,7 @@ void RadiositySolver::estimate(Link& link) {
       cumulative[k + 1] =
           cumulative[k] + pointToElement(x.position, x.normal, elements_[sources[k]]);
     const double f = cumulative.back();
+    for (size_t k = 0; k < shares.size(); ++k) shares[k] += cumulative[k + 1] - cumulative[k];
     lowest = std::min(lowest, f);
     highest = std::max(highest, f);
     if (!(f > 0)) continue;
@@ -336,6 +338,9 @@ void RadiositySolver::estimate(Link& link) {
     if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
   }
   link.unoccludedTransfer = float(unoccluded / n);
+  link.sourceShares.clear();
+  if (unoccluded > 0)
+    for (double share : shares) link.sourceShares.push_back(float(share / unoccluded));
   // The variation over the receiver's points, or the whole transfer when the receiver is a
   // cluster (its surfaces face different ways: gathering gives them all the mean).
   link.transferSpread = r.isCluster() ? link.unoccludedTransfer : float(highest - lowest);
