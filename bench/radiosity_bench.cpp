@@ -3,10 +3,12 @@
 // Table 1 (31,130 links / 81 s for 227 polygons; 43,679 links / 130 s for 1,339 polygons on a
 // 195 MHz R10000).
 //
-// Usage: radiosity_bench [--tolerance T] [--furnace] [--convergence] [scene.json ...]
+// Usage: radiosity_bench [--tolerance T] [--furnace] [--convergence] [--element-shares]
+//                        [scene.json ...]
 // (default: the Cornell box and both chair rooms at tolerances 1e-3 and 3e-4).
 // --furnace: every material emits 1 with reflectance 0.5: the area mean of the irradiance must be
 //   2, absorbed = emitted.
+// --element-shares: RadiosityOptions::elementSourceShares (element sources send per cell).
 // --convergence: the direct part at the element vertices of the first scene against the exact
 //   reference irradiance, per tolerance: links, mean and largest error (relative to the mean
 //   exact irradiance), seconds.
@@ -33,7 +35,7 @@ using namespace penumbra;
 
 namespace {
 
-void run(const std::string& path, double tolerance, bool furnace) {
+void run(const std::string& path, double tolerance, bool furnace, bool elementShares) {
   Scene scene = loadScene(path);
   if (furnace)
     for (Material& m : scene.materials) {
@@ -42,6 +44,7 @@ void run(const std::string& path, double tolerance, bool furnace) {
     }
   RadiosityOptions options;
   options.tolerance = tolerance;
+  options.elementSourceShares = elementShares;
   RadiositySolver solver(options);
   solver.build(scene, 0);
   const RadiosityStats& s = solver.stats();
@@ -150,13 +153,15 @@ void convergence(const std::string& path, const std::vector<double>& tolerances)
 int main(int argc, char** argv) {
   std::vector<double> tolerances;
   std::vector<std::string> scenes;
-  bool furnace = false, convergenceTable = false;
+  bool furnace = false, convergenceTable = false, elementShares = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--tolerance" && i + 1 < argc)
       tolerances.push_back(std::atof(argv[++i]));
     else if (arg == "--furnace")
       furnace = true;
+    else if (arg == "--element-shares")
+      elementShares = true;
     else if (arg == "--convergence")
       convergenceTable = true;
     else
@@ -181,6 +186,6 @@ int main(int argc, char** argv) {
               "polyShf", "elemMiB", "actMiB", "pasMiB", "shfMiB", "totMiB", "seconds", "refine",
               "solve", "abs/em");
   for (double tolerance : tolerances)
-    for (const std::string& scene : scenes) run(scene, tolerance, furnace);
+    for (const std::string& scene : scenes) run(scene, tolerance, furnace, elementShares);
   return 0;
 }

@@ -9,8 +9,19 @@ namespace penumbra {
 
 Rgb RadiositySolver::sourceValue(const Link& link, Rgb NodeRadiometry::*quantity) const {
   if (link.sourceShares.empty()) return radiometry(link.source).*quantity;
-  const Cluster& c = clusters_[link.source.index];
   Rgb value;
+  if (!link.source.isCluster()) {
+    const Element& e = elements_[link.source.index];
+    if (e.isLeaf()) return e.radiometry.*quantity;
+    for (int q = 0; q < 4; ++q) {
+      const Element& child = elements_[e.firstChild + q];
+      for (int g = 0; g < 4; ++g)
+        value += (child.isLeaf() ? child : elements_[child.firstChild + g]).radiometry.*quantity *
+                 double(link.sourceShares[4 * q + g]);
+    }
+    return value;
+  }
+  const Cluster& c = clusters_[link.source.index];
   for (int i = c.elementBegin; i < c.elementEnd; ++i)
     value += elements_[rootOrder_[i]].radiometry.*quantity *
              double(link.sourceShares[i - c.elementBegin]);

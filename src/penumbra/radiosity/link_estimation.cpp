@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <vector>
 
@@ -283,6 +284,25 @@ void RadiositySolver::estimate(Link& link) {
     for (int i = 0; i < n; ++i) order[i] = i;
     for (int i = n - 1; i > 0; --i) std::swap(order[i], order[rng.next() % (i + 1)]);
     double weightSum = 0, visibleWeight = 0;
+    // Where on the source the visible transfer lands, by the source's sixteen grandchildren
+    // (quadtree cells two levels down, whether or not it is split yet): see Link::sourceShares.
+    std::array<Element, 16> cells{};
+    {
+      Element quadrant;
+      quadrant.vertexCount = se.vertexCount;
+      quadrant.normal = se.normal;
+      int k = 0;
+      for (const auto& loop : se.childVertices()) {
+        quadrant.vertices = loop;
+        for (const auto& subLoop : quadrant.childVertices()) {
+          cells[k].vertices = subLoop;
+          cells[k].vertexCount = se.vertexCount;
+          cells[k].normal = se.normal;
+          ++k;
+        }
+      }
+    }
+    std::array<double, 16> landed{};
     for (int i = 0; i < n; ++i) {
       const auto stratum = [&](int k, double& u, double& v) {
         const int cell = k % (side * side);
@@ -299,10 +319,21 @@ void RadiositySolver::estimate(Link& link) {
       const Vec3 y = sampleSeenFrom(x, re.normal, se, u, v);
       const double weight = pointToElement(x, re.normal, se);
       weightSum += weight;
-      if (isVisible(re.polygon, x, se.polygon, y)) visibleWeight += weight;
+      if (isVisible(re.polygon, x, se.polygon, y)) {
+        visibleWeight += weight;
+        int cell = 0;
+        double inside = cells[0].insideness(y);
+        for (int k = 1; k < 16; ++k)
+          if (const double d = cells[k].insideness(y); d > inside) cell = k, inside = d;
+        landed[cell] += weight;
+      }
     }
     stats_.visibilityRays += n;
     link.visibility = weightSum > 0 ? float(visibleWeight / weightSum) : 0.f;
+    link.sourceShares.clear();
+    if (const double total = std::accumulate(landed.begin(), landed.end(), 0.0);
+        options_.elementSourceShares && total > 0)
+      for (double w : landed) link.sourceShares.push_back(float(w / total));
     return;
   }
   // A cluster at one end or both: exact point-to-element form factors from receiver points to

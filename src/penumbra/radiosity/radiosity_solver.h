@@ -53,6 +53,12 @@ struct RadiosityOptions {
   int maxIterations = 1000;
   int refinementPasses = 4;  // refine, solve, refine with the new radiosities, ...
   bool storeShafts = true;   // one shaft per link (the "all" shaft policy)
+  // Element sources send per grandchild cell, by where the link's visible transfer lands
+  // (Link::sourceShares): under a real lamp this brings absorbed / emitted in the chair rooms
+  // from 0.97 to within 1%, but in the one-lamp box (EnergyBalanceWithOneLamp) the error grows
+  // from 0.27% at tolerance 1e-3 to 0.70% at 3e-4 (energy created on the floor, cause not yet
+  // found), so it is off until that is understood (docs/radiosity.md, known limits).
+  bool elementSourceShares = false;
   std::uint64_t seed = 1;
 };
 
