@@ -28,6 +28,20 @@ struct Link {
   // variation). Gathering spreads B over the source evenly, which is exact only where B or this
   // is constant: the source oracle weighs it with the variation of B.
   float sourceSpread = 0;
+  // Where the transfer comes from on the source, summing to 1. For a cluster source: the share
+  // of the unoccluded transfer from each of its root elements (the solver's rootOrder_ over the
+  // cluster's range); gathering takes Σ share x B of those elements instead of the cluster's
+  // area-mean B, so a table top facing the ceiling sends the ceiling its own radiosity, not the
+  // mean with its dark underside and legs (Sillion 1995's directional clusters, per element).
+  // For an element source (with RadiosityOptions::elementSourceShares): the share of the visible
+  // transfer that lands on each of its sixteen grandchildren (quadtree cells two levels down), from
+  // the visibility rays' ends with the weights of the link's visibility estimate (so the shares
+  // split that estimate, nothing else); once the source is split, gathering takes Σ share x B of
+  // those cells (of the children while they are leaves): the part of a wall hidden behind a sofa
+  // from a receiver is also the part in the sofa's shadow, dark, and the mean B of the wall would
+  // send its dark part's light at the bright part's visibility. Empty for a contact link, when
+  // nothing is visible, and for a passive link (its estimate is re-done when it is re-activated).
+  std::vector<float> sourceShares;
   int shaft = -1;  // index of its shaft in the solver's shafts, -1 when not stored
   bool active = true;
   std::vector<int> children;  // links replacing this one after refinement (passive links)

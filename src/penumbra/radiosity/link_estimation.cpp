@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <vector>
 
@@ -283,6 +284,25 @@ void RadiositySolver::estimate(Link& link) {
     for (int i = 0; i < n; ++i) order[i] = i;
     for (int i = n - 1; i > 0; --i) std::swap(order[i], order[rng.next() % (i + 1)]);
     double weightSum = 0, visibleWeight = 0;
+    // Where on the source the visible transfer lands, by the source's sixteen grandchildren
+    // (quadtree cells two levels down, whether or not it is split yet): see Link::sourceShares.
+    std::array<Element, 16> cells{};
+    {
+      Element quadrant;
+      quadrant.vertexCount = se.vertexCount;
+      quadrant.normal = se.normal;
+      int k = 0;
+      for (const auto& loop : se.childVertices()) {
+        quadrant.vertices = loop;
+        for (const auto& subLoop : quadrant.childVertices()) {
+          cells[k].vertices = subLoop;
+          cells[k].vertexCount = se.vertexCount;
+          cells[k].normal = se.normal;
+          ++k;
+        }
+      }
+    }
+    std::array<double, 16> landed{};
     for (int i = 0; i < n; ++i) {
       const auto stratum = [&](int k, double& u, double& v) {
         const int cell = k % (side * side);
@@ -299,10 +319,21 @@ void RadiositySolver::estimate(Link& link) {
       const Vec3 y = sampleSeenFrom(x, re.normal, se, u, v);
       const double weight = pointToElement(x, re.normal, se);
       weightSum += weight;
-      if (isVisible(re.polygon, x, se.polygon, y)) visibleWeight += weight;
+      if (isVisible(re.polygon, x, se.polygon, y)) {
+        visibleWeight += weight;
+        int cell = 0;
+        double inside = cells[0].insideness(y);
+        for (int k = 1; k < 16; ++k)
+          if (const double d = cells[k].insideness(y); d > inside) cell = k, inside = d;
+        landed[cell] += weight;
+      }
     }
     stats_.visibilityRays += n;
     link.visibility = weightSum > 0 ? float(visibleWeight / weightSum) : 0.f;
+    link.sourceShares.clear();
+    if (const double total = std::accumulate(landed.begin(), landed.end(), 0.0);
+        options_.elementSourceShares && total > 0)
+      for (double w : landed) link.sourceShares.push_back(float(w / total));
     return;
   }
   // A cluster at one end or both: exact point-to-element form factors from receiver points to
@@ -314,6 +345,7 @@ void RadiositySolver::estimate(Link& link) {
   else
     sources.push_back(s.index);
   std::vector<double> cumulative(sources.size() + 1, 0);
+  std::vector<double> shares(s.isCluster() ? sources.size() : 0, 0.0);
   const int n = std::max(1, options_.clusterSamples);
   double unoccluded = 0, visible = 0, lowest = 1e300, highest = 0;
   for (int i = 0; i < n; ++i) {
@@ -322,6 +354,7 @@ void RadiositySolver::estimate(Link& link) {
       cumulative[k + 1] =
           cumulative[k] + pointToElement(x.position, x.normal, elements_[sources[k]]);
     const double f = cumulative.back();
+    for (size_t k = 0; k < shares.size(); ++k) shares[k] += cumulative[k + 1] - cumulative[k];
     lowest = std::min(lowest, f);
     highest = std::max(highest, f);
     if (!(f > 0)) continue;
@@ -336,6 +369,9 @@ void RadiositySolver::estimate(Link& link) {
     if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
   }
   link.unoccludedTransfer = float(unoccluded / n);
+  link.sourceShares.clear();
+  if (unoccluded > 0)
+    for (double share : shares) link.sourceShares.push_back(float(share / unoccluded));
   // The variation over the receiver's points, or the whole transfer when the receiver is a
   // cluster (its surfaces face different ways: gathering gives them all the mean).
   link.transferSpread = r.isCluster() ? link.unoccludedTransfer : float(highest - lowest);

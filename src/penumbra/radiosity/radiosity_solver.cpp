@@ -80,6 +80,7 @@ void RadiositySolver::build(const PosedScene& scene) {
     totalArea += e.area;
     totalPower_ += e.area * e.radiometry.emission.maxComponent();
   }
+  referenceArea_ = options_.irradianceFactor > 0 ? totalArea / options_.irradianceFactor : 0;
   minArea_ = options_.minElementArea > 0 ? options_.minElementArea
                                          : options_.minAreaFactor * options_.tolerance * totalArea;
   pullEmission({NodeRef::kCluster, 0});
@@ -265,7 +266,8 @@ void RadiositySolver::computeStats() {
   stats_.activeLinks = stats_.passiveLinks = 0;
   stats_.activeLinkBytes = stats_.passiveLinkBytes = 0;
   for (const Link& link : links_) {
-    const std::size_t bytes = sizeof(Link) + link.children.capacity() * sizeof(int);
+    const std::size_t bytes = sizeof(Link) + link.children.capacity() * sizeof(int) +
+                              link.sourceShares.capacity() * sizeof(float);
     if (link.active) {
       ++stats_.activeLinks;
       stats_.activeLinkBytes += bytes;

@@ -29,11 +29,20 @@ class UniformGrid;
 
 struct RadiosityOptions {
   // Power oracles (refinement.cpp), all against tolerance x the power emitted by the scene:
-  //  - link: A_receiver x B_max(source) x the unoccluded transfer, counted once when the source
-  //    is partly hidden and once when the receiver is a cluster; A_source x (B_max − B_min over
-  //    the source) x the variation over the source of the form factor to the receiver;
-  //  - receiver: A_receiver x the variation over the receiver of Σ_links F(x, source) V B_source.
+  //  - link: A_receiver x B_max(source) x the unoccluded transfer when the source is partly
+  //    hidden; A_source x (B_max − B_min over the source) x the variation over the source of the
+  //    form factor to the receiver;
+  //  - receiver: A_receiver x the variation over the receiver of Σ_links F(x, source) V B_source;
+  //  - cluster receiver: B_max(source) x the transfer, an irradiance error at every point of the
+  //    cluster (its surfaces all get the same irradiance whatever their orientation), weighed
+  //    with an area of at least total area / irradianceFactor (see below); a cluster receiver is
+  //    always the end that is split.
   double tolerance = 1e-3;
+  // A cluster receiver's error counts as if the cluster had at least total area /
+  // irradianceFactor: the power oracle alone let a small cluster (a chair, a bin) keep any
+  // irradiance error below tolerance x power / its area, at every point of it. So an irradiance
+  // error above irradianceFactor x tolerance x the mean emitted exitance is refined.
+  double irradianceFactor = 20;
   // Elements are not split below this area (0: minAreaFactor x tolerance x total surface area,
   // so the finest element scales with the power criterion).
   double minElementArea = 0;
@@ -44,6 +53,12 @@ struct RadiosityOptions {
   int maxIterations = 1000;
   int refinementPasses = 4;  // refine, solve, refine with the new radiosities, ...
   bool storeShafts = true;   // one shaft per link (the "all" shaft policy)
+  // Element sources send per grandchild cell, by where the link's visible transfer lands
+  // (Link::sourceShares): under a real lamp this brings absorbed / emitted in the chair rooms
+  // from 0.97 to within 1%, but in the one-lamp box (EnergyBalanceWithOneLamp) the error grows
+  // from 0.27% at tolerance 1e-3 to 0.70% at 3e-4 (energy created on the floor, cause not yet
+  // found), so it is off until that is understood (docs/radiosity.md, known limits).
+  bool elementSourceShares = false;
   std::uint64_t seed = 1;
 };
 
@@ -143,6 +158,9 @@ class RadiositySolver {
   double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;
   bool refineActiveLinks();
   void solve();
+  // What the link's source sends per unit transfer: its `quantity` (emission, reflected or total
+  // radiosity), per root element of a cluster source weighted by the link's source shares.
+  Rgb sourceValue(const Link& link, Rgb NodeRadiometry::*quantity) const;
   void pushPull(NodeRef node, const Rgb& direct, const Rgb& indirect, double& largestChange);
   void pullEmission(NodeRef node);
   void buildMesh();
@@ -156,6 +174,9 @@ class RadiositySolver {
   bool canSplit(NodeRef n) const;
   std::vector<NodeRef> split(NodeRef n);
   bool isBehind(NodeRef n, const Plane& plane) const;
+  // Does an irradiance error over all of the receiver `n`, taken as at least referenceArea_
+  // large, exceed the oracles' power threshold?
+  bool exceedsTolerance(NodeRef n, double irradianceError) const;
 
   struct SurfacePoint {
     Vec3 position;
@@ -194,7 +215,8 @@ class RadiositySolver {
   std::vector<std::array<std::uint32_t, 4>> leafVertices_;  // mesh vertices of each leaf
   RadiosityMesh mesh_;
   double minArea_ = 0;
-  double totalPower_ = 0;  // emitted power (largest channel per polygon), the oracle's scale
+  double totalPower_ = 0;     // emitted power (largest channel per polygon), the oracle's scale
+  double referenceArea_ = 0;  // total area / irradianceFactor: cluster receivers count as larger
   RadiosityStats stats_;
 };
 

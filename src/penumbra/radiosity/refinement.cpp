@@ -32,14 +32,18 @@ int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate) 
 
 // The link oracle, a BF oracle on power (Hanrahan, Salzman & Aupperle 1991): refine while
 // B_max(source) x A_receiver x (what the link cannot represent) exceeds tolerance x the emitted
-// power of the scene. What a link cannot represent, each counted as the whole unoccluded
-// transfer: visibility when the source is partly hidden (it varies over the receiver), and
-// orientation when the receiver is a cluster (gathering gives all its surfaces the same
-// irradiance). The variation of an
+// power of the scene. What a link cannot represent, counted as the whole unoccluded transfer:
+// visibility when the source is partly hidden (it varies over the receiver). The variation of an
 // element receiver's form factor is left to the receiver oracle (refineReceivers), which sees
 // the sum over the receiver's links, where variations of links to sources on different sides
-// cancel. Clusters whose boxes overlap cannot be linked as wholes (their mutual form factor is
-// meaningless), so such links are always refined.
+// cancel. A cluster receiver gives all its surfaces the same irradiance whatever their
+// orientation, cover (a chair leg's foot on the floor) or visibility, so its whole transfer may
+// be misplaced at every point of it: that error is weighed as an irradiance (exceedsTolerance),
+// and such links are refined at the receiver, which splitting the source does not mend. (Before,
+// the larger end was split: a chair cluster kept receiving from ever smaller pieces of the walls,
+// and its leaves strayed from 5% to 230% of the furnace irradiance.) Clusters whose boxes overlap
+// cannot be linked as wholes (their mutual form factor is meaningless), so such links are always
+// refined.
 void RadiositySolver::refineLink(int index) {
   const NodeRef r = links_[index].receiver, s = links_[index].source;
   const bool selfLink = r == s;
@@ -49,14 +53,17 @@ void RadiositySolver::refineLink(int index) {
   if (!splitR && !splitS) return;
   if (!overlapping) {
     const Link& link = links_[index];
-    const bool partlyVisible = link.visibility > 0 && link.visibility < 1;
-    const double unrepresented =
-        ((partlyVisible ? 1 : 0) + (r.isCluster() ? 1 : 0)) * double(link.unoccludedTransfer);
     const NodeRadiometry& b = radiometry(s);
-    const double error =
-        std::max(unrepresented * area(r) * b.maxRadiosity,
+    const double transfer = double(link.unoccludedTransfer);
+    const bool partlyVisible = link.visibility > 0 && link.visibility < 1;
+    const double power =
+        std::max((partlyVisible ? 1 : 0) * transfer * area(r) * b.maxRadiosity,
                  double(link.sourceSpread) * area(s) * (b.maxRadiosity - b.minRadiosity));
-    if (!(error > options_.tolerance * totalPower_)) return;
+    // A cluster receiver hands all its surfaces the same irradiance whatever their orientation,
+    // cover or visibility: the whole transfer may be misplaced, at every point of the cluster.
+    const bool clusterReceiverError =
+        r.isCluster() && exceedsTolerance(r, transfer * b.maxRadiosity);
+    if (!(power > options_.tolerance * totalPower_) && !clusterReceiverError) return;
   }
   std::vector<std::pair<NodeRef, NodeRef>> pairs;
   if (selfLink) {
@@ -64,9 +71,9 @@ void RadiositySolver::refineLink(int index) {
       for (NodeRef b : clusters_[r.index].children)
         if (!(a == b && !a.isCluster())) pairs.push_back({a, b});
   } else {
-    // Split the larger end (clusters before elements of the same size), as far as allowed.
-    const bool splitReceiver =
-        splitR && (!splitS || size(r) + (r.isCluster() ? 1e-12 : 0) >= size(s));
+    // Split the larger end, as far as allowed; a cluster receiver always (what it cannot
+    // represent, its surfaces' different orientations, splitting the source does not mend).
+    const bool splitReceiver = splitR && (!splitS || r.isCluster() || size(r) >= size(s));
     if (splitReceiver)
       for (NodeRef a : split(r)) pairs.push_back({a, s});
     else
@@ -106,10 +113,12 @@ void RadiositySolver::replaceLink(int index,
     links_[child].visibility = probe.visibility;
     links_[child].transferSpread = probe.transferSpread;
     links_[child].sourceSpread = probe.sourceSpread;
+    links_[child].sourceShares = std::move(probe.sourceShares);
     children.push_back(child);
   }
   links_[index].active = false;
   links_[index].children = children;
+  links_[index].sourceShares = {};
   for (int child : children) refineLink(child);
 }
 
@@ -132,7 +141,6 @@ bool RadiositySolver::refineReceivers() {
       byReceiver[p].push_back(int(i));
     }
   bool refined = false;
-  const double threshold = options_.tolerance * totalPower_;
   while (!pending.empty()) {
     const int p = pending.back();
     pending.pop_back();
@@ -167,11 +175,11 @@ bool RadiositySolver::refineReceivers() {
               float(pointTransfer(links_[index], points[k], receiver.normal, covered[k]));
         cached.valid = true;
       }
-      const double b = radiometry(links_[index].source).radiosity.maxComponent();
+      const double b = sourceValue(links_[index], &NodeRadiometry::radiosity).maxComponent();
       for (int k = 0; k < 16; ++k) sum[k] += cached.values[k] * b;
     }
     const auto [lowest, highest] = std::minmax_element(sum.begin(), sum.end());
-    if (!((*highest - *lowest) * receiver.area > threshold)) continue;
+    if (!((*highest - *lowest) * receiver.area > options_.tolerance * totalPower_)) continue;
     refined = true;
     const std::vector<NodeRef> children = split({NodeRef::kElement, p});
     const size_t firstNew = links_.size();
@@ -190,6 +198,10 @@ bool RadiositySolver::refineReceivers() {
       }
   }
   return refined;
+}
+
+bool RadiositySolver::exceedsTolerance(NodeRef n, double irradianceError) const {
+  return irradianceError * std::max(area(n), referenceArea_) > options_.tolerance * totalPower_;
 }
 
 bool RadiositySolver::refineActiveLinks() {
