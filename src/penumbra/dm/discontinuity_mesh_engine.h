@@ -52,10 +52,9 @@ struct DmStats {
 };
 
 struct DmOptions {
-  // EEE surfaces (light edge × two occluder edges). Needed for exactness where the shadows of
-  // several occluders overlap; their tracing dominates the cost of cluttered scenes (a generated
-  // 1k-polygon room takes minutes with them), so large runs may turn them off and accept faces
-  // that span an EEE event there.
+  // EEE surfaces (light edge × two occluder edges). Needed for a complete mesh where the shadows
+  // of several occluders overlap. Off: faces may span an EEE event (face verification then
+  // catches them and answers at the point).
   bool eeeSurfaces = true;
   // Check every face's labels just inside its corners against those at its sample point. A face
   // where they differ is crossed by an event the mesh lacks (a missing event is a defect of the
