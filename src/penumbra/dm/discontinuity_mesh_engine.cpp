@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "penumbra/dm/fan_visibility.h"
+#include "penumbra/dm/receiver_plane_events.h"
 #include "penumbra/dm/surface_casting.h"
 #include "penumbra/dm/surface_enumeration.h"
 #include "penumbra/spatial/receiver_locator.h"
@@ -20,12 +21,15 @@ double secondsSince(Clock::time_point t) {
 }
 
 // Surface ids of the segments that no discontinuity surface makes: below the receiver boundary's
-// id, contact lines of polygon p, then light planes.
+// id, contact lines of polygon p, then light planes, then horizons (receiver_plane_events.h).
 SurfaceId contactSurface(PolygonId p) {
   return ReceiverMesh::kBoundary - 1 - p;
 }
 SurfaceId lightPlaneSurface(const PosedScene& scene, PolygonId light) {
   return ReceiverMesh::kBoundary - 1 - SurfaceId(scene.polygons.size()) - light;
+}
+SurfaceId horizonSurface(const PosedScene& scene, PolygonId light) {
+  return ReceiverMesh::kBoundary - 1 - 2 * SurfaceId(scene.polygons.size()) - light;
 }
 
 // Edges of other polygons lying in the receiver's plane and touching it: contact lines (D0
@@ -45,31 +49,6 @@ std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const
       out.push_back({contactSurface(id), receiver.id, other.vertices[i],
                      other.vertices[(i + 1) % other.vertices.size()], 0, 0});
   }
-  return out;
-}
-
-// Where a light's plane crosses the receiver: points beyond it see the light's back, so the whole
-// light disappears there (e.g. the strip of a wall between the light's plane and the ceiling).
-// Crossings of the receiver's boundary paired along the line (the receiver may be concave).
-std::vector<DiscontinuitySegment> lightPlaneSegments(const WorldPolygon& receiver,
-                                                     const WorldPolygon& light, SurfaceId surface) {
-  const Polygon3& v = receiver.vertices;
-  std::vector<Vec3> crossings;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const Vec3& a = v[i];
-    const Vec3& b = v[(i + 1) % v.size()];
-    const double da = light.plane.signedDistance(a), db = light.plane.signedDistance(b);
-    if ((da > 0) == (db > 0)) continue;  // half-open: a vertex on the plane counts once
-    crossings.push_back(a + (b - a) * (da / (da - db)));
-  }
-  std::vector<DiscontinuitySegment> out;
-  if (crossings.size() < 2) return out;
-  const Vec3 along = cross(light.plane.normal, receiver.plane.normal);
-  std::sort(crossings.begin(), crossings.end(),
-            [&](const Vec3& x, const Vec3& y) { return dot(x, along) < dot(y, along); });
-  for (size_t i = 0; i + 1 < crossings.size(); i += 2)
-    if (!(crossings[i] == crossings[i + 1]))
-      out.push_back({surface, receiver.id, crossings[i], crossings[i + 1], 0, 0});
   return out;
 }
 
@@ -207,6 +186,13 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
            lightPlaneSegments(receiver, scene.polygons[light], lightPlaneSurface(scene, light))) {
         segments.push_back(extended(segment, by, by));
         ++stats_.lightPlaneSegments;
+      }
+    for (PolygonId light : scene.lights)
+      for (const DiscontinuitySegment& segment :
+           horizonSegments(*adjacency_, *grid_, receiver, scene.polygons[light],
+                           horizonSurface(scene, light))) {
+        segments.push_back(extended(segment, by, by));
+        ++stats_.horizonSegments;
       }
     // Contact lines end exactly at occluder vertices where computed events start (the foot of an
     // edge standing on the receiver): extended too, so that an event passing an ulp beside that

@@ -41,6 +41,7 @@ struct DmStats {
   long long visibleSegments = 0;
   long long contactSegments = 0;
   long long lightPlaneSegments = 0;  // where a light's plane crosses a receiver
+  long long horizonSegments = 0;     // events of receivers whose plane cuts a light
   long long meshVertices = 0, meshEdges = 0, meshFaces = 0;
   long long backprojectionVertices = 0;  // summed over faces and lights
   long long unlabelledBackprojections = 0;

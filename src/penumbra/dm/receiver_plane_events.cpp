@@ -1,0 +1,130 @@
+#include "penumbra/dm/receiver_plane_events.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+namespace penumbra {
+
+namespace {
+
+// The pieces of the line o + t d (in the receiver's plane) inside the receiver polygon, as ranges
+// of t: crossings of the polygon's boundary paired along the line (the polygon may be concave).
+std::vector<std::array<double, 2>> insideRanges(const WorldPolygon& receiver, const Vec3& o,
+                                                const Vec3& d) {
+  const Vec3 m = cross(d, receiver.plane.normal);  // normal of the plane through the line
+  const Polygon3& v = receiver.vertices;
+  const double dd = dot(d, d);
+  std::vector<double> ts;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3& a = v[i];
+    const Vec3& b = v[(i + 1) % v.size()];
+    const double da = dot(m, a - o), db = dot(m, b - o);
+    if ((da > 0) == (db > 0)) continue;  // half-open: a vertex on the line counts once
+    const Vec3 x = a + (b - a) * (da / (da - db));
+    ts.push_back(dot(x - o, d) / dd);
+  }
+  std::sort(ts.begin(), ts.end());
+  std::vector<std::array<double, 2>> out;
+  for (size_t i = 0; i + 1 < ts.size(); i += 2)
+    if (ts[i] < ts[i + 1]) out.push_back({ts[i], ts[i + 1]});
+  return out;
+}
+
+// The part of the line o + t d inside the receiver with t >= from, as segments.
+void addBeyond(std::vector<DiscontinuitySegment>& out, const WorldPolygon& receiver,
+               SurfaceId surface, const Vec3& o, const Vec3& d, double from) {
+  for (const auto& [t0, t1] : insideRanges(receiver, o, d)) {
+    const double a = std::max(t0, from);
+    if (a >= t1) continue;
+    out.push_back({surface, receiver.id, o + d * a, o + d * t1, 0, 0});
+  }
+}
+
+}  // namespace
+
+std::vector<DiscontinuitySegment> lightPlaneSegments(const WorldPolygon& receiver,
+                                                     const WorldPolygon& light, SurfaceId surface) {
+  std::vector<DiscontinuitySegment> out;
+  const Vec3 along = cross(light.plane.normal, receiver.plane.normal);
+  if (squaredLength(along) == 0) return out;  // parallel planes
+  // A point of the receiver's plane on the light's plane.
+  const Vec3 n = receiver.plane.normal, l = light.plane.normal;
+  const double dn = -receiver.plane.signedDistance({0, 0, 0});
+  const double dl = -light.plane.signedDistance({0, 0, 0});
+  const Vec3 o = (cross(along, n) * dl + cross(l, along) * dn) / squaredLength(along);
+  addBeyond(out, receiver, surface, o, along, -INFINITY);
+  return out;
+}
+
+std::vector<DiscontinuitySegment> horizonSegments(const EdgeAdjacency& adjacency,
+                                                  const UniformGrid& grid,
+                                                  const WorldPolygon& receiver,
+                                                  const WorldPolygon& light, SurfaceId surface) {
+  std::vector<DiscontinuitySegment> out;
+  // The horizon: the receiver plane's trace on the light (its extreme crossings).
+  std::vector<Vec3> trace;
+  const Polygon3& lv = light.vertices;
+  for (size_t i = 0; i < lv.size(); ++i) {
+    const double da = receiver.plane.signedDistance(lv[i]);
+    const double db = receiver.plane.signedDistance(lv[(i + 1) % lv.size()]);
+    if ((da > 0) == (db > 0)) continue;
+    trace.push_back(lv[i] + (lv[(i + 1) % lv.size()] - lv[i]) * (da / (da - db)));
+  }
+  if (trace.size() < 2) return out;
+  const Vec3 along = trace[1] - trace[0];
+  std::sort(trace.begin(), trace.end(),
+            [&](const Vec3& a, const Vec3& b) { return dot(a, along) < dot(b, along); });
+  const Vec3 t1 = trace.front(), t2 = trace.back();
+  if (t1 == t2) return out;
+
+  // Piercing points of silhouette-capable occluder edges between the receiver and the horizon.
+  Box3 region = receiver.bounds;
+  region.extend(t1);
+  region.extend(t2);
+  std::vector<Vec3> piercings;
+  std::vector<int> seen;
+  for (PolygonId id : grid.polygonsInBox(region)) {
+    if (id == receiver.id || id == light.id) continue;
+    const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const EdgeId e = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+      if (std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
+      seen.push_back(e);
+      const SceneEdge& edge = adjacency.edges()[e];
+      if (!edge.canBeSilhouette) continue;
+      const Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
+      const double da = receiver.plane.signedDistance(a), db = receiver.plane.signedDistance(b);
+      if (!((da > 0 && db < 0) || (da < 0 && db > 0))) continue;
+      const Vec3 x = a + (b - a) * (da / (da - db));
+      if (light.plane.signedDistance(x) <= 0 || !region.contains(x)) continue;
+      piercings.push_back(x);
+    }
+  }
+  // Lines from a horizon end through a piercing point, beyond it.
+  for (const Vec3& t : {t1, t2})
+    for (const Vec3& x : piercings)
+      if (!(x == t)) addBeyond(out, receiver, surface, t, x - t, 1);
+  // Lines through two piercing points that meet the horizon between its ends, beyond both.
+  const Vec3 h = t2 - t1;
+  const Vec3& n = receiver.plane.normal;
+  for (size_t i = 0; i < piercings.size(); ++i)
+    for (size_t j = i + 1; j < piercings.size(); ++j) {
+      const Vec3 d = piercings[j] - piercings[i];
+      // Y = t1 + s h on the line x_i + u d: solve in the plane (2D cross products along n).
+      const double denominator = dot(n, cross(h, d));
+      if (denominator == 0) continue;
+      const double s = dot(n, cross(piercings[i] - t1, d)) / denominator;
+      if (s < 0 || s > 1) continue;
+      const Vec3 y = t1 + h * s;
+      const double ui = dot(piercings[i] - y, d), uj = dot(piercings[j] - y, d);
+      if ((ui > 0) != (uj > 0) || ui == 0 || uj == 0) continue;  // Y between them: no event
+      const Vec3 away = ui > 0 ? d : d * -1.0;
+      const double farther = std::max(std::abs(ui), std::abs(uj)) / dot(d, d);
+      addBeyond(out, receiver, surface, y, away, farther);
+    }
+  return out;
+}
+
+}  // namespace penumbra
