@@ -163,7 +163,8 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   start = Clock::now();
   for (const WorldPolygon& receiver : scene.polygons) {
     if (receiver.isLight) continue;
-    ReceiverData data{ReceiverMesh(receiver), {}, std::move(eeeOnReceiver[receiver.id])};
+    ReceiverData data{
+        ReceiverMesh(receiver), {}, SegmentProximity(std::move(eeeOnReceiver[receiver.id]))};
     std::vector<DiscontinuitySegment> segments;
     // Segments end where events meet, computed apart: extend their ends (see extended()). The
     // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they are.
@@ -240,21 +241,9 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
 }
 
-bool DiscontinuityMeshEngine::nearEeePolyline(const std::vector<std::pair<Vec3, Vec3>>& segments,
-                                              const Vec3& p) const {
-  const double near = 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
-  for (const auto& [a, b] : segments) {
-    const Vec3 ab = b - a;
-    const double len2 = dot(ab, ab);
-    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    if (distance(p, a + ab * t) <= near) return true;
-  }
-  return false;
-}
-
-bool DiscontinuityMeshEngine::labelsHoldAtCorners(
-    const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
-    const std::vector<std::pair<Vec3, Vec3>>& eeeSegments) const {
+bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
+                                                  const FaceData& data,
+                                                  const SegmentProximity& eeeSegments) const {
   const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
   // Events meeting at one point leave clusters of corners a few ulps apart: one check each.
   const double apart = 1e-7 * posed_->bounds.diagonalLength();
@@ -271,7 +260,7 @@ bool DiscontinuityMeshEngine::labelsHoldAtCorners(
       if (mesh.locate(p) != face.index) continue;
       // Beside an EEE polyline the labels may be those of the conic's other side (the polyline
       // stands within its tolerance of the conic); queries there are answered at the point.
-      if (nearEeePolyline(eeeSegments, p)) continue;
+      if (eeeSegments.near(p, nearEee())) continue;
       for (size_t l = 0; l < posed_->lights.size(); ++l) {
         const Backprojection& atSample = data.perLight[l];
         if (!atSample.isLabelled) continue;
@@ -295,6 +284,10 @@ Rgb DiscontinuityMeshEngine::faceIrradianceAt(PolygonId receiver, int face, cons
   return backprojections_->irradiance(data.faces[face].perLight, p, n, receiver);
 }
 
+double DiscontinuityMeshEngine::nearEee() const {
+  return 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
+}
+
 Rgb DiscontinuityMeshEngine::atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const {
   std::vector<Backprojection> here;
   for (PolygonId light : posed_->lights)
@@ -316,7 +309,7 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
   if (it->second.faces[*face].unresolved) return atPoint(p, n, match->polygon);
   // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
   // the backprojection is computed at the point itself there.
-  if (nearEeePolyline(it->second.eeeSegments, onPlane)) return atPoint(p, n, match->polygon);
+  if (it->second.eeeSegments.near(onPlane, nearEee())) return atPoint(p, n, match->polygon);
   return backprojections_->irradiance(it->second.faces[*face].perLight, p, n, match->polygon);
 }
 

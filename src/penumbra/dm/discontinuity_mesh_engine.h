@@ -22,6 +22,7 @@
 #include "penumbra/dm/edge_adjacency.h"
 #include "penumbra/dm/eee_surfaces.h"
 #include "penumbra/dm/receiver_mesh.h"
+#include "penumbra/dm/segment_proximity.h"
 #include "penumbra/scene/scene.h"
 
 namespace penumbra {
@@ -112,14 +113,15 @@ class DiscontinuityMeshEngine {
     bool unresolved = false;
   };
   bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
-                           const std::vector<std::pair<Vec3, Vec3>>& eeeSegments) const;
-  // Is p within twice the chord tolerance of one of a receiver's EEE polyline segments?
-  bool nearEeePolyline(const std::vector<std::pair<Vec3, Vec3>>& segments, const Vec3& p) const;
+                           const SegmentProximity& eeeSegments) const;
   Rgb atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const;
+  // Twice the EEE chord tolerance: closer than this to a polyline, answers are computed at the
+  // point.
+  double nearEee() const;
   struct ReceiverData {
     ReceiverMesh mesh;
     std::vector<FaceData> faces;
-    std::vector<std::pair<Vec3, Vec3>> eeeSegments;  // approximated conics on this receiver
+    SegmentProximity eeeSegments;  // approximated conics on this receiver
   };
 
   DmOptions options_;

@@ -1,0 +1,69 @@
+#pragma once
+// Is a point within a distance of any of a set of segments? For the EEE polylines of a receiver,
+// asked at every query and at every face corner during verification: the segments are sorted by
+// their lower end along the coordinate axis where they spread most, so a query looks only at
+// those whose span along that axis can reach it.
+
+#include <algorithm>
+#include <array>
+#include <utility>
+#include <vector>
+
+#include "penumbra/geometry/vec3.h"
+
+namespace penumbra {
+
+class SegmentProximity {
+ public:
+  SegmentProximity() = default;
+  explicit SegmentProximity(std::vector<std::pair<Vec3, Vec3>> segments)
+      : segments_(std::move(segments)) {
+    if (segments_.empty()) return;
+    Vec3 lo = segments_[0].first, hi = lo;
+    for (const auto& [a, b] : segments_)
+      for (const Vec3& p : {a, b}) {
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      }
+    const Vec3 spread = hi - lo;
+    axis_ = spread.x >= spread.y && spread.x >= spread.z ? 0 : spread.y >= spread.z ? 1 : 2;
+    std::sort(segments_.begin(), segments_.end(),
+              [&](const auto& s, const auto& t) { return low(s) < low(t); });
+    for (const auto& s : segments_) longest_ = std::max(longest_, high(s) - low(s));
+    lows_.reserve(segments_.size());
+    for (const auto& s : segments_) lows_.push_back(low(s));
+  }
+
+  bool empty() const { return segments_.empty(); }
+  size_t size() const { return segments_.size(); }
+
+  bool near(const Vec3& p, double distanceBound) const {
+    const double x = coordinate(p);
+    auto it = std::lower_bound(lows_.begin(), lows_.end(), x - distanceBound - longest_);
+    for (size_t i = size_t(it - lows_.begin()); i < segments_.size(); ++i) {
+      if (lows_[i] > x + distanceBound) break;
+      const auto& [a, b] = segments_[i];
+      const Vec3 ab = b - a;
+      const double len2 = dot(ab, ab);
+      const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+      if (distance(p, a + ab * t) <= distanceBound) return true;
+    }
+    return false;
+  }
+
+ private:
+  double coordinate(const Vec3& p) const { return axis_ == 0 ? p.x : axis_ == 1 ? p.y : p.z; }
+  double low(const std::pair<Vec3, Vec3>& s) const {
+    return std::min(coordinate(s.first), coordinate(s.second));
+  }
+  double high(const std::pair<Vec3, Vec3>& s) const {
+    return std::max(coordinate(s.first), coordinate(s.second));
+  }
+
+  std::vector<std::pair<Vec3, Vec3>> segments_;
+  std::vector<double> lows_;
+  int axis_ = 0;
+  double longest_ = 0;
+};
+
+}  // namespace penumbra
