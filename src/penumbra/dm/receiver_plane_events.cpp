@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 namespace penumbra {
 
@@ -96,12 +97,20 @@ std::vector<DiscontinuitySegment> horizonSegments(const EdgeAdjacency& adjacency
       if (!edge.canBeSilhouette) continue;
       const Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
       const double da = receiver.plane.signedDistance(a), db = receiver.plane.signedDistance(b);
-      if (!((da > 0 && db < 0) || (da < 0 && db > 0))) continue;
-      const Vec3 x = a + (b - a) * (da / (da - db));
-      if (light.plane.signedDistance(x) <= 0 || !region.contains(x)) continue;
-      piercings.push_back(x);
+      // An endpoint on the plane pierces it too (an edge lying in the plane, like a book's edge
+      // on a shelf's side, turns about its endpoints as seen from the plane).
+      std::vector<Vec3> here;
+      if (da == 0) here.push_back(a);
+      if (db == 0) here.push_back(b);
+      if ((da > 0 && db < 0) || (da < 0 && db > 0)) here.push_back(a + (b - a) * (da / (da - db)));
+      for (const Vec3& x : here)
+        if (light.plane.signedDistance(x) > 0 && region.contains(x)) piercings.push_back(x);
     }
   }
+  std::sort(piercings.begin(), piercings.end(), [](const Vec3& p, const Vec3& q) {
+    return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+  });
+  piercings.erase(std::unique(piercings.begin(), piercings.end()), piercings.end());
   // Lines from a horizon end through a piercing point, beyond it.
   for (const Vec3& t : {t1, t2})
     for (const Vec3& x : piercings)
