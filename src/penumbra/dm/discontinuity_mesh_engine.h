@@ -2,14 +2,16 @@
 // The exact soft-shadow engine (Loscos & Drettakis 1997, building on Drettakis & Fiume 1994): for
 // every light, its discontinuity surfaces are enumerated, cast through the regular grid and
 // clipped by visibility in their own planes; the visible pieces become edges of a planar mesh on
-// every receiver polygon (with contact lines of touching polygons); every face gets a labelled
-// backprojection per light, which gives the exact visible light, hence exact irradiance, at any
-// point of the face.
+// every receiver polygon (with contact lines of touching polygons and the receiver-plane events of
+// receiver_plane_events.h); every face gets a labelled backprojection per light, which gives the
+// exact visible light, hence exact irradiance, at any point of the face.
 //
 // Events built: EV with a light vertex or edge, non-emitter EV (occluder vertex × occluder edge),
-// the degenerate EEE of an occluder polygon whose plane cuts the light, and EEE with a light edge
-// and two occluder edges (polylines within kEeeChordTolerance). Not built yet: EEE of three
-// occluder edges (where three occluders' projections meet inside the light).
+// the degenerate EEE of an occluder polygon whose plane cuts the light, EEE with a light edge and
+// two occluder edges (polylines within kEeeChordTolerance), the light plane's line and the horizon
+// events on receivers. Not built yet: EEE of three occluder edges (where three occluders'
+// projections meet inside the light). Face verification (DmOptions::verifyFaces) finds the faces
+// that a missing event crosses; they answer at the point.
 
 #include <map>
 #include <memory>
