@@ -182,26 +182,24 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       const bool open1 = ends[endKey(segment, segment.p1)] == 1;
       segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
     }
-    for (PolygonId light : scene.lights)
-      for (const DiscontinuitySegment& segment :
-           lightPlaneSegments(receiver, scene.polygons[light], lightPlaneSurface(scene, light))) {
+    // Segments no surface makes are extended at both ends. Contact lines end exactly at occluder
+    // vertices where computed events start (the foot of an edge standing on the receiver): an
+    // event passing an ulp beside that end must still cross them.
+    const auto addExtended = [&](const std::vector<DiscontinuitySegment>& pieces,
+                                 long long& count) {
+      for (const DiscontinuitySegment& segment : pieces)
         segments.push_back(extended(segment, by, by));
-        ++stats_.lightPlaneSegments;
-      }
-    for (PolygonId light : scene.lights)
-      for (const DiscontinuitySegment& segment :
-           horizonSegments(*adjacency_, *grid_, receiver, scene.polygons[light],
-                           horizonSurface(scene, light))) {
-        segments.push_back(extended(segment, by, by));
-        ++stats_.horizonSegments;
-      }
-    // Contact lines end exactly at occluder vertices where computed events start (the foot of an
-    // edge standing on the receiver): extended too, so that an event passing an ulp beside that
-    // end still crosses them.
-    for (const DiscontinuitySegment& segment : contactSegments(scene, *grid_, receiver)) {
-      segments.push_back(extended(segment, by, by));
-      ++stats_.contactSegments;
+      count += (long long)pieces.size();
+    };
+    for (PolygonId light : scene.lights) {
+      const WorldPolygon& lightPolygon = scene.polygons[light];
+      addExtended(lightPlaneSegments(receiver, lightPolygon, lightPlaneSurface(scene, light)),
+                  stats_.lightPlaneSegments);
+      addExtended(horizonSegments(*adjacency_, *grid_, receiver, lightPolygon,
+                                  horizonSurface(scene, light)),
+                  stats_.horizonSegments);
     }
+    addExtended(contactSegments(scene, *grid_, receiver), stats_.contactSegments);
     data.mesh.insert(segments);
     stats_.meshVertices += data.mesh.vertexCount();
     stats_.meshEdges += data.mesh.edgeCount();
@@ -212,6 +210,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   stats_.secondsMeshing = secondsSince(start);
 
   start = Clock::now();
+  const double sliver = kSliverSize * scene.bounds.diagonalLength();
   for (auto& [id, data] : receivers_) {
     const WorldPolygon& receiver = scene.polygons[id];
     for (const MeshFace& face : data.mesh.faces()) {
@@ -228,7 +227,6 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       }
       // Faces of no area (where extended segments overshoot one another) hold no query and
       // their labels are degenerate: not verified.
-      const double sliver = kSliverSize * scene.bounds.diagonalLength();
       if (options_.verifyFaces && face.area > sliver * sliver) {
         const auto verifying = Clock::now();
         faceData.unresolved = !labelsHoldAtCorners(data.mesh, face, faceData, data.eeeSegments);

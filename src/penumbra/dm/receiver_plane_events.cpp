@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <tuple>
+#include <unordered_set>
 
 namespace penumbra {
 
@@ -85,14 +86,13 @@ std::vector<DiscontinuitySegment> horizonSegments(const EdgeAdjacency& adjacency
   region.extend(t1);
   region.extend(t2);
   std::vector<Vec3> piercings;
-  std::vector<int> seen;
+  std::unordered_set<EdgeId> seen;
   for (PolygonId id : grid.polygonsInBox(region)) {
     if (id == receiver.id || id == light.id) continue;
     const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
     for (size_t k = 0; k < corners.size(); ++k) {
       const EdgeId e = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
-      if (std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
-      seen.push_back(e);
+      if (!seen.insert(e).second) continue;
       const SceneEdge& edge = adjacency.edges()[e];
       if (!edge.canBeSilhouette) continue;
       const Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
