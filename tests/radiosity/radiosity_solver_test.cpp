@@ -94,8 +94,14 @@ Scene furnace(Scene scene, double rho) {
   }
   return scene;
 }
+// The bundled rooms' lamps are single polygons hanging 1 cm below the ceiling, emitting
+// downwards only: the ceiling above one sees its dark back, where E < M/(1−ρ) in the exact
+// solution too. The furnace scenes leave them out (the rooms stay closed), so that M/(1−ρ) is
+// the exact answer at every point.
 Scene furnace(const std::string& path, double rho) {
-  return furnace(loadScene(scenePath(path)), rho);
+  Scene scene = loadScene(scenePath(path));
+  std::erase_if(scene.objects, [](const SceneObject& o) { return o.name == "light"; });
+  return furnace(std::move(scene), rho);
 }
 
 struct FurnaceResult {
@@ -108,12 +114,10 @@ struct FurnaceResult {
 
 // Every polygon emits M = 1 with reflectance ρ in a closed scene: B = M/(1−ρ) and the
 // irradiance equals B everywhere; the direct part (emission carried once) is M, as the form
-// factors from any point sum to 1. Except behind one-sided emitters: the rooms' lamps hang 1 cm
-// below the ceiling, emitting downwards only, so the ceiling above them sees a dark back (and
-// the energy it sends there is lost to the model). That is why the direct part is only asserted
-// in the empty room; the area mean of E and the balance stay within the 1% target.
-FurnaceResult solveFurnace(const Scene& scene, double rho, double tolerance) {
-  RadiositySolver solver(withTolerance(tolerance));
+// factors from any point sum to 1 (the rooms' one-sided lamps are left out, see furnace()).
+FurnaceResult solveFurnace(const Scene& scene, double rho, const RadiosityOptions& options) {
+  const double tolerance = options.tolerance;
+  RadiositySolver solver(options);
   solver.build(scene, 0);
   const double expected = 1 / (1 - rho);
   double sum = 0, direct = 0, area = 0, within = 0;
@@ -139,6 +143,9 @@ FurnaceResult solveFurnace(const Scene& scene, double rho, double tolerance) {
       tolerance, result.links, result.meanError, result.directError, result.balanceError,
       result.areaWithin1Percent);
   return result;
+}
+FurnaceResult solveFurnace(const Scene& scene, double rho, double tolerance) {
+  return solveFurnace(scene, rho, withTolerance(tolerance));
 }
 
 // A closed empty room (the chair room without furniture): links to all sources at one level
@@ -168,9 +175,27 @@ TEST(RadiositySolver, FurnaceInChairRoom) {
     EXPECT_LT(r.meanError, 0.01);
     EXPECT_LT(r.balanceError, 0.01);
   }
-  EXPECT_LT(fine.meanError, coarse.meanError);
-  EXPECT_LT(fine.balanceError, coarse.balanceError);
+  // Pointwise, the error shrinks with the tolerance (measured: 63.9% of the area within 1% at
+  // 1e-3, 77.6% at 3e-4). The area means are both within 0.3% and do not order reliably: at
+  // 1e-3 the leaves' errors of either sign happen to cancel to 0.02%.
+  EXPECT_GT(fine.areaWithin1Percent, coarse.areaWithin1Percent + 0.05);
   EXPECT_GT(fine.links, coarse.links);
+}
+
+// Exact visibility against rays, side by side: with exact visible form factors at the receiver
+// points a point's transfers sum to 1 whatever hides what, where 16 rays per link leave each
+// partly hidden link's visibility off by about 0.1 of its transfer (measured in the Cornell box
+// without its lamp at 1e-3: 93.6% of the area within 1% against 67.1%; leaves in [1.92, 2.06]
+// against [1.39, 2.12]).
+TEST(RadiositySolver, ExactVisibilityTightensTheFurnace) {
+  const Scene scene = furnace("cornell-box/cornell-box.json", 0.5);
+  const FurnaceResult exact = solveFurnace(scene, 0.5, 1e-3);
+  RadiosityOptions rays = withTolerance(1e-3);
+  rays.exactVisibility = false;
+  const FurnaceResult sampled = solveFurnace(scene, 0.5, rays);
+  EXPECT_GT(exact.areaWithin1Percent, 0.9);
+  EXPECT_GT(exact.areaWithin1Percent, sampled.areaWithin1Percent + 0.15);
+  EXPECT_LT(exact.meanError, 0.002);
 }
 
 // The furnished room (1,300 polygons: desks, drawers with handles, bookshelves 1 cm off the

@@ -105,16 +105,55 @@ double ExactReference::unoccludedFormFactor(const Vec3& p, const Vec3& n, Polygo
 
 VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonId lightId,
                                           std::optional<PolygonId> receiver) const {
-  VisibleLight result;
-  result.light = lightId;
   const WorldPolygon& light = scene_.polygons[lightId];
-  const Plane& lightPlane = light.plane;
+  VisibleLight result = visibleRegion(
+      p, n, light.vertices, light.plane, lightId, receiver,
+      [this](const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes, auto&& visit) {
+        forEachCandidateOccluder(shaftBounds, shaftPlanes, visit);
+      });
+  result.light = lightId;
+  return result;
+}
+
+VisibleLight ExactReference::visiblePart(const Vec3& p, const Vec3& n, const Polygon3& source,
+                                         const Plane& sourcePlane, PolygonId sourcePolygon,
+                                         std::span<const PolygonId> candidates,
+                                         std::optional<PolygonId> receiver) const {
+  VisibleLight result = visibleRegion(
+      p, n, source, sourcePlane, sourcePolygon, receiver,
+      [&](const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes, auto&& visit) {
+        for (PolygonId id : candidates) {
+          const WorldPolygon& q = scene_.polygons[id];
+          if (q.bounds.overlaps(shaftBounds) && !isBoxOutsideAny(q.bounds, shaftPlanes)) visit(q);
+        }
+      });
+  result.light = sourcePolygon;
+  return result;
+}
+
+double ExactReference::visibleFormFactor(const Vec3& p, const Vec3& n, const Polygon3& source,
+                                         const Plane& sourcePlane, PolygonId sourcePolygon,
+                                         std::span<const PolygonId> candidates,
+                                         std::optional<PolygonId> receiver) const {
+  double formFactor = 0;
+  for (const Polygon3& ring :
+       visiblePart(p, n, source, sourcePlane, sourcePolygon, candidates, receiver).rings)
+    formFactor += pointToPolygonFormFactor(p, n, ring);
+  return formFactor;
+}
+
+template <typename ForEachCandidate>
+VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const Polygon3& source,
+                                           const Plane& lightPlane, PolygonId lightId,
+                                           std::optional<PolygonId> receiver,
+                                           ForEachCandidate&& forEachCandidate) const {
+  VisibleLight result;
   const double pointHeight = lightPlane.signedDistance(p);
   if (pointHeight <= 0) return result;  // lights emit from their front side only
-  const Polygon3 lit = clipByPlane(light.vertices, Plane{n, dot(n, p)});
+  const Polygon3 lit = clipByPlane(source, Plane{n, dot(n, p)});
   if (lit.empty()) return result;
 
-  const PlaneFrame frame = PlaneFrame::fromPlane(lightPlane, centroid(light.vertices));
+  const PlaneFrame frame = PlaneFrame::fromPlane(lightPlane, centroid(source));
   Polygon2 lit2;
   for (const Vec3& x : lit) lit2.push_back(frame.toLocal(x));
   double extent = 0;
@@ -149,7 +188,7 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.bounds.diagonalLength();
 
   ClipperLib::Paths occluders;
-  forEachCandidateOccluder(shaft, cone, [&](const WorldPolygon& q) {
+  forEachCandidate(shaft, cone, [&](const WorldPolygon& q) {
     if (q.id == lightId || q.id == receiver) return;
     if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) return;
     Polygon3 piece = q.vertices;

@@ -9,6 +9,7 @@
 // frame is scaled so that its extent maps to about 2^60, far finer than the doubles that feed it.
 
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "penumbra/base/rgb.h"
@@ -43,6 +44,19 @@ class ExactReference {
   // The exact visible part of `light` from p (empty rings when nothing is visible).
   VisibleLight visibleLight(const Vec3& p, const Vec3& n, PolygonId light,
                             std::optional<PolygonId> receiver = {}) const;
+  // The visible part from p of any convex polygon `source` lying in `sourcePlane` (emitting
+  // towards its normal), part of the scene polygon `sourcePolygon` (which never occludes), with
+  // only `candidates` considered as occluders: the caller has culled the others (a shaft between
+  // a receiver and the source). Used by the radiosity solver for exact link visibility.
+  VisibleLight visiblePart(const Vec3& p, const Vec3& n, const Polygon3& source,
+                           const Plane& sourcePlane, PolygonId sourcePolygon,
+                           std::span<const PolygonId> candidates,
+                           std::optional<PolygonId> receiver = {}) const;
+  // Lambert's form factor from p (normal n) to that visible part.
+  double visibleFormFactor(const Vec3& p, const Vec3& n, const Polygon3& source,
+                           const Plane& sourcePlane, PolygonId sourcePolygon,
+                           std::span<const PolygonId> candidates,
+                           std::optional<PolygonId> receiver = {}) const;
   // Unoccluded form factor of the whole light (clipped to p's front half-space).
   double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
 
@@ -52,6 +66,14 @@ class ExactReference {
   template <typename Visit>
   void forEachCandidateOccluder(const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes,
                                 Visit&& visit) const;
+
+  // The polygon `source` in `lightPlane` minus the projections from p of the occluders that
+  // forEachCandidate(shaftBounds, shaftPlanes, visit) offers.
+  template <typename ForEachCandidate>
+  VisibleLight visibleRegion(const Vec3& p, const Vec3& n, const Polygon3& source,
+                             const Plane& lightPlane, PolygonId lightId,
+                             std::optional<PolygonId> receiver,
+                             ForEachCandidate&& forEachCandidate) const;
 
   const PosedScene& scene_;
   const UniformGrid* grid_;

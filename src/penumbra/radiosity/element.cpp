@@ -37,6 +37,22 @@ Vec3 Element::centroid() const {
   return a0 + a1 > 0 ? (c0 * a0 + c1 * a1) / (a0 + a1) : c0;
 }
 
+std::array<Vec3, 16> Element::grandchildCentres() const {
+  std::array<Vec3, 16> centres{};
+  int k = 0;
+  for (const auto& loop : childVertices()) {
+    Element child;
+    child.vertices = loop;
+    child.vertexCount = vertexCount;
+    for (const auto& subLoop : child.childVertices()) {
+      Vec3 x{0, 0, 0};
+      for (int i = 0; i < vertexCount; ++i) x += subLoop[i];
+      centres[k++] = x / double(vertexCount);
+    }
+  }
+  return centres;
+}
+
 std::array<std::array<Vec3, 4>, 4> Element::childVertices() const {
   const auto& v = vertices;
   std::array<std::array<Vec3, 4>, 4> c{};

@@ -45,6 +45,9 @@ struct Element {
   Vec3 centroid() const;
   // The four children's vertex loops, tiling this element.
   std::array<std::array<Vec3, 4>, 4> childVertices() const;
+  // The centres (vertex means) of the sixteen cells two quadtree levels down, whether or not the
+  // element is split: the receiver oracle's points, and where exact visibility is evaluated.
+  std::array<Vec3, 16> grandchildCentres() const;
   // A point of the element from two numbers in [0, 1)², uniform in area.
   Vec3 samplePoint(double u, double v) const;
   // Signed distance-like inside test: >= 0 inside (smallest of the edge distances).

@@ -19,7 +19,7 @@ struct Link {
   NodeRef receiver;
   NodeRef source;
   float unoccludedTransfer = 0;  // form factor (receiver to source), visibility ignored
-  float visibility = 1;          // fraction of unoccluded rays in [0, 1]
+  float visibility = 1;          // visible fraction of the transfer in [0, 1]
   // How much the point-to-source form factor varies over the receiver (max − min at the
   // quadrature points); for links with a cluster end, the transfer itself (unknown variation).
   float transferSpread = 0;
@@ -42,6 +42,11 @@ struct Link {
   // send its dark part's light at the bright part's visibility. Empty for a contact link, when
   // nothing is visible, and for a passive link (its estimate is re-done when it is re-activated).
   std::vector<float> sourceShares;
+  // With RadiosityOptions::exactVisibility, for an element-to-element link whose shaft holds
+  // occluders: the exact visible form factor at each of the receiver's 16 grandchild centres
+  // (0 where a polygon in contact covers the point). The receiver oracle uses them as they are,
+  // so it sees how visibility varies over the receiver. Empty otherwise and for passive links.
+  std::vector<float> pointVisibleTransfers;
   int shaft = -1;  // index of its shaft in the solver's shafts, -1 when not stored
   bool active = true;
   std::vector<int> children;  // links replacing this one after refinement (passive links)

@@ -26,9 +26,12 @@
 #include <numbers>
 #include <numeric>
 #include <optional>
+#include <utility>
 #include <vector>
 
+#include "penumbra/lighting/exact_reference.h"
 #include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/uniform_grid.h"
 
 namespace penumbra {
 
@@ -173,6 +176,57 @@ struct FormFactorQuadrature {
   }
 };
 
+// The part of the receiver in front of the source's plane, as triangles (a fan): the form factor
+// is 0 behind that plane.
+std::vector<std::array<Vec3, 4>> frontTriangles(const Element& receiver, const Element& source) {
+  const Polygon3 front =
+      clipByPlane(loopOf(receiver), Plane::fromPointNormal(source.vertices[0], source.normal));
+  std::vector<std::array<Vec3, 4>> triangles;
+  for (size_t t = 1; t + 1 < front.size(); ++t)
+    if (const std::array<Vec3, 4> triangle{front[0], front[t], front[t + 1], Vec3{}};
+        elementArea(triangle, 3) > 0)
+      triangles.push_back(triangle);
+  return triangles;
+}
+
+// Does the source's plane cut the receiver (some of it in front, some behind)?
+bool straddles(const Element& receiver, const Element& source) {
+  const Plane plane = Plane::fromPointNormal(source.vertices[0], source.normal);
+  int behind = 0;
+  for (int i = 0; i < receiver.vertexCount; ++i)
+    behind += plane.signedDistance(receiver.vertices[i]) <= 0 ? 1 : 0;
+  return behind > 0 && behind < receiver.vertexCount;
+}
+
+struct ReceiverQuadrature {
+  double mean = 0, lowest = 0, highest = 0;
+};
+
+// The receiver-area mean of the point form factor to the source. Where the source's plane cuts
+// the receiver (a floor element under the side of a box standing on it), the quadrature runs
+// over the part in front only: on the whole receiver its points could all fall behind and miss a
+// strip in front, where the box's side fills a third of the hemisphere (such links were dropped
+// as empty, and floor leaves along boxes had 70% of their furnace irradiance).
+ReceiverQuadrature meanFormFactor(const Element& re, const Element& se) {
+  ReceiverQuadrature result;
+  if (!straddles(re, se)) {
+    FormFactorQuadrature quadrature{se, re.normal, re.vertexCount};
+    result.mean = quadrature.mean(re.vertices, quadrature.at(re.centroid()), 0);
+    result.lowest = quadrature.lowest;
+    result.highest = quadrature.highest;
+    return result;
+  }
+  double sum = 0;
+  for (const auto& triangle : frontTriangles(re, se)) {
+    FormFactorQuadrature quadrature{se, re.normal, 3};
+    sum += elementArea(triangle, 3) *
+           quadrature.mean(triangle, quadrature.at(vertexMean(triangle, 3)), 0);
+    result.highest = std::max(result.highest, quadrature.highest);
+  }
+  result.mean = sum / re.area;  // lowest stays 0: the part behind receives nothing
+  return result;
+}
+
 // Arvo 1995, "Stratified sampling of spherical triangles": a direction uniform in the solid angle
 // of the triangle (a, b, c) seen from x, from two numbers in [0, 1). Returns nothing when the
 // triangle is degenerate seen from x.
@@ -268,13 +322,17 @@ void RadiositySolver::estimate(Link& link) {
       link.visibility = *share > 0 ? 1.f : 0.f;
       return;
     }
-    FormFactorQuadrature quadrature{se, re.normal, re.vertexCount};
-    const double transfer = quadrature.mean(re.vertices, quadrature.at(re.centroid()), 0);
-    link.unoccludedTransfer = float(transfer);
+    const ReceiverQuadrature quadrature = meanFormFactor(re, se);
+    link.unoccludedTransfer = float(quadrature.mean);
     link.transferSpread = float(quadrature.highest - quadrature.lowest);
     link.sourceSpread = float(sourceSideSpread(se, re));
     if (link.unoccludedTransfer <= 0) {
       link.visibility = 0;
+      return;
+    }
+    if (options_.exactVisibility && !options_.elementSourceShares &&
+        link.unoccludedTransfer >= options_.exactVisibilityMinTransfer) {
+      estimateExactVisibility(link, re, se);
       return;
     }
     // Stratified jittered points on both ends, the source strata shuffled against the receiver's.
@@ -377,6 +435,79 @@ void RadiositySolver::estimate(Link& link) {
   link.transferSpread = r.isCluster() ? link.unoccludedTransfer : float(highest - lowest);
   link.visibility = unoccluded > 0 ? float(visible / unoccluded) : 0.f;
   link.sourceSpread = float(link.unoccludedTransfer * area(r) / area(s));
+}
+
+std::vector<PolygonId> RadiositySolver::shaftOccluders(const Element& receiver,
+                                                       const Element& source) const {
+  const Shaft shaft(loopOf(receiver), loopOf(source));
+  std::vector<PolygonId> occluders;
+  grid_->forEachCellOverlappingBox(shaft.hull(), [&](int cell) {
+    if (!shaft.mayIntersect(grid_->cellBounds(cell))) return;
+    for (PolygonId id : grid_->polygonsInCell(cell))
+      if (id != receiver.polygon && id != source.polygon &&
+          shaft.mayIntersect(scene_.polygons[id].bounds))
+        occluders.push_back(id);
+  });
+  std::sort(occluders.begin(), occluders.end());
+  occluders.erase(std::unique(occluders.begin(), occluders.end()), occluders.end());
+  return occluders;
+}
+
+// Visibility as the ratio of the visible to the unoccluded form factor summed over the receiver's
+// 16 grandchild centres, each visible form factor exact (the source clipped by the projections of
+// the shaft's polygons from that point). No noise: a closed scene's visible form factors from a
+// point sum to 1, which the rays' estimate only did on average.
+void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, const Element& se) {
+  constexpr double kWhollyVisible = 1e-9;
+  link.pointVisibleTransfers.clear();
+  const std::vector<PolygonId> occluders = shaftOccluders(re, se);
+  if (occluders.empty() && contacts_[re.polygon].empty()) {
+    link.visibility = 1;
+    return;
+  }
+  const Polygon3 source = loopOf(se);
+  const Plane sourcePlane = Plane::fromPointNormal(se.vertices[0], se.normal);
+  // The form factor and exact visible form factor at x.
+  const auto atPoint = [&](const Vec3& x) -> std::pair<double, double> {
+    const double f = pointToElement(x, re.normal, se);
+    if (!(f > 0) || isCovered(re.polygon, x)) return {f, 0.0};
+    ++stats_.exactVisibilityPoints;
+    const double v = visibleParts_->visibleFormFactor(x, re.normal, source, sourcePlane, se.polygon,
+                                                      occluders, re.polygon);
+    // The clipped region's vertices are rounded to a 2^-60 grid of the source: a wholly visible
+    // source must read as wholly visible (the link oracle refines partial ones).
+    if (v > f * (1 - kWhollyVisible)) return {f, f};
+    if (v < f * kWhollyVisible) return {f, 0.0};
+    return {f, v};
+  };
+  double unoccluded = 0, visible = 0;
+  link.pointVisibleTransfers.resize(16);
+  const std::array<Vec3, 16> points = re.grandchildCentres();
+  for (int k = 0; k < 16; ++k) {
+    const auto [f, v] = atPoint(points[k]);
+    unoccluded += f;
+    visible += v;
+    link.pointVisibleTransfers[k] = float(v);
+  }
+  // A receiver cut by the source's plane: the ratio over its front part (the grandchild centres
+  // may all lie behind it), at the grandchild centres of the front's triangles, by area.
+  if (straddles(re, se)) {
+    unoccluded = visible = 0;
+    for (const auto& triangle : frontTriangles(re, se)) {
+      Element cell;
+      cell.vertices = triangle;
+      cell.vertexCount = 3;
+      const double weight = elementArea(triangle, 3);
+      for (const Vec3& x : cell.grandchildCentres()) {
+        const auto [f, v] = atPoint(x);
+        unoccluded += weight * f;
+        visible += weight * v;
+      }
+    }
+  }
+  link.visibility = unoccluded > 0 ? float(visible / unoccluded) : 0.f;
+  // Wholly visible or wholly hidden: the receiver oracle's F(x) × visibility is then exact.
+  if (link.visibility == 1 || link.visibility == 0) link.pointVisibleTransfers.clear();
 }
 
 }  // namespace penumbra

@@ -19,6 +19,7 @@
 #include <cmath>
 
 #include "penumbra/base/check.h"
+#include "penumbra/lighting/exact_reference.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -63,6 +64,7 @@ void RadiositySolver::build(const PosedScene& scene) {
   scene_ = scene;
   grid_ = std::make_unique<UniformGrid>(scene_);
   rays_ = std::make_unique<RayCaster>(scene_);
+  visibleParts_ = std::make_unique<ExactReference>(scene_, grid_.get());
   buildElements();
   findContacts();
   CHECK(!elements_.empty());
@@ -267,7 +269,8 @@ void RadiositySolver::computeStats() {
   stats_.activeLinkBytes = stats_.passiveLinkBytes = 0;
   for (const Link& link : links_) {
     const std::size_t bytes = sizeof(Link) + link.children.capacity() * sizeof(int) +
-                              link.sourceShares.capacity() * sizeof(float);
+                              link.sourceShares.capacity() * sizeof(float) +
+                              link.pointVisibleTransfers.capacity() * sizeof(float);
     if (link.active) {
       ++stats_.activeLinks;
       stats_.activeLinkBytes += bytes;

@@ -114,11 +114,13 @@ void RadiositySolver::replaceLink(int index,
     links_[child].transferSpread = probe.transferSpread;
     links_[child].sourceSpread = probe.sourceSpread;
     links_[child].sourceShares = std::move(probe.sourceShares);
+    links_[child].pointVisibleTransfers = std::move(probe.pointVisibleTransfers);
     children.push_back(child);
   }
   links_[index].active = false;
   links_[index].children = children;
   links_[index].sourceShares = {};
+  links_[index].pointVisibleTransfers = {};
   for (int child : children) refineLink(child);
 }
 
@@ -155,24 +157,16 @@ bool RadiositySolver::refineReceivers() {
       PointTransfers& cached = pointTransfers_[index];
       if (!cached.valid) {
         if (!located) {
-          int k = 0;
-          for (const auto& loop : receiver.childVertices()) {
-            Element child;
-            child.vertices = loop;
-            child.vertexCount = receiver.vertexCount;
-            for (const auto& subLoop : child.childVertices()) {
-              Vec3 x{0, 0, 0};
-              for (int i = 0; i < receiver.vertexCount; ++i) x += subLoop[i];
-              points[k] = x / double(receiver.vertexCount);
-              covered[k] = isCovered(receiver.polygon, points[k]);
-              ++k;
-            }
-          }
+          points = receiver.grandchildCentres();
+          for (int k = 0; k < 16; ++k) covered[k] = isCovered(receiver.polygon, points[k]);
           located = true;
         }
+        const std::vector<float>& exact = links_[index].pointVisibleTransfers;
         for (int k = 0; k < 16; ++k)
           cached.values[k] =
-              float(pointTransfer(links_[index], points[k], receiver.normal, covered[k]));
+              exact.size() == 16
+                  ? exact[k]
+                  : float(pointTransfer(links_[index], points[k], receiver.normal, covered[k]));
         cached.valid = true;
       }
       const double b = sourceValue(links_[index], &NodeRadiometry::radiosity).maxComponent();
