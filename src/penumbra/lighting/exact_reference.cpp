@@ -103,8 +103,10 @@ double ExactReference::unoccludedFormFactor(const Vec3& p, const Vec3& n, Polygo
   return clipped.empty() ? 0 : pointToPolygonFormFactor(p, n, clipped);
 }
 
-VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonId lightId,
-                                          std::optional<PolygonId> receiver) const {
+template <typename ForEach>
+VisibleLight ExactReference::visibleLightFrom(const Vec3& p, const Vec3& n, PolygonId lightId,
+                                              std::optional<PolygonId> receiver,
+                                              ForEach&& forEach) const {
   VisibleLight result;
   result.light = lightId;
   const WorldPolygon& light = scene_.polygons[lightId];
@@ -149,7 +151,7 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
   const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.bounds.diagonalLength();
 
   ClipperLib::Paths occluders;
-  forEachCandidateOccluder(shaft, cone, [&](const WorldPolygon& q) {
+  forEach(shaft, cone, [&](const WorldPolygon& q) {
     if (q.id == lightId || q.id == receiver) return;
     if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) return;
     Polygon3 piece = q.vertices;
@@ -206,6 +208,29 @@ VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonI
     result.rings.push_back(std::move(ring3));
   }
   return result;
+}
+
+VisibleLight ExactReference::visibleLight(const Vec3& p, const Vec3& n, PolygonId lightId,
+                                          std::optional<PolygonId> receiver) const {
+  return visibleLightFrom(
+      p, n, lightId, receiver,
+      [this](const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes, auto&& visit) {
+        forEachCandidateOccluder(shaftBounds, shaftPlanes, visit);
+      });
+}
+
+VisibleLight ExactReference::visibleLightAmong(const Vec3& p, const Vec3& n, PolygonId lightId,
+                                               std::optional<PolygonId> receiver,
+                                               const std::vector<PolygonId>& candidates) const {
+  // The same bounds tests as the grid search, on the given polygons only.
+  return visibleLightFrom(
+      p, n, lightId, receiver,
+      [&](const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes, auto&& visit) {
+        for (PolygonId id : candidates) {
+          const WorldPolygon& q = scene_.polygons[id];
+          if (q.bounds.overlaps(shaftBounds) && !isBoxOutsideAny(q.bounds, shaftPlanes)) visit(q);
+        }
+      });
 }
 
 Rgb ExactReference::irradiance(const Vec3& p, const Vec3& n,

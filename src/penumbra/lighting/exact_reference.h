@@ -43,6 +43,13 @@ class ExactReference {
   // The exact visible part of `light` from p (empty rings when nothing is visible).
   VisibleLight visibleLight(const Vec3& p, const Vec3& n, PolygonId light,
                             std::optional<PolygonId> receiver = {}) const;
+  // The same with only `candidates` (distinct ids) considered as occluders, instead of every
+  // polygon the grid finds in the cone from p to the light: exact when every polygon that can hide
+  // part of the light from p is among them. The caller vouches for that (the discontinuity mesh
+  // propagates a face's occluders to its neighbours); visibleLight() stays the oracle.
+  VisibleLight visibleLightAmong(const Vec3& p, const Vec3& n, PolygonId light,
+                                 std::optional<PolygonId> receiver,
+                                 const std::vector<PolygonId>& candidates) const;
   // Unoccluded form factor of the whole light (clipped to p's front half-space).
   double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
 
@@ -52,6 +59,11 @@ class ExactReference {
   template <typename Visit>
   void forEachCandidateOccluder(const Box3& shaftBounds, const std::vector<Plane>& shaftPlanes,
                                 Visit&& visit) const;
+
+  // visibleLight() with the occluders that `forEach(shaftBounds, shaftPlanes, visit)` offers.
+  template <typename ForEach>
+  VisibleLight visibleLightFrom(const Vec3& p, const Vec3& n, PolygonId light,
+                                std::optional<PolygonId> receiver, ForEach&& forEach) const;
 
   const PosedScene& scene_;
   const UniformGrid* grid_;
