@@ -1,7 +1,8 @@
 // The exact soft-shadow engine (discontinuity meshing with backprojections), on one core:
 //  1. full computation time per stage and mesh size for the desk scenes and generated scenes
 //     (Loscos & Drettakis 1997 report their scenes of 145-475 polygons; goal: desk-475 in <= 1 s),
-//     with the memory of each structure;
+//     with the memory of each structure; the backprojection stage from scratch vs propagated from
+//     face to neighbouring face, side by side;
 //  2. irradiance at every mesh vertex by the face's backprojection vs by the per-point exact
 //     reference, side by side (time ratio and largest difference);
 //  3. against Monte Carlo (Embree): the time a point costs to reach 1e-3 relative error in the
@@ -79,6 +80,28 @@ void runScene(const std::string& name, const std::string& path, bool monteCarlo)
       s.eeeSegments, s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces, s.unresolvedFaces,
       kib(s.gridBytes), kib(s.surfaceCellBytes), kib(s.intersectionBytes), kib(s.meshBytes),
       kib(s.backprojectionBytes));
+
+  // Backprojections from scratch at every face vs propagated from face to neighbouring face
+  // (DmOptions::propagateBackprojections), side by side: the other way is built once more.
+  {
+    DmOptions otherOptions;
+    otherOptions.propagateBackprojections = !otherOptions.propagateBackprojections;
+    DiscontinuityMeshEngine other(otherOptions);
+    other.build(PosedScene(posed));
+    const DmStats& o = other.stats();
+    const DmStats& scratch = otherOptions.propagateBackprojections ? s : o;
+    const DmStats& propagated = otherOptions.propagateBackprojections ? o : s;
+    std::printf(
+        "  backprojection stage: from scratch %.3f s, propagated %.3f s (%lld of %lld "
+        "face-lights propagated, %lld sent back to scratch), ratio %.2f; verification %.3f s "
+        "vs %.3f s; unresolved faces %lld vs %lld\n",
+        scratch.secondsBackprojections, propagated.secondsBackprojections,
+        propagated.propagatedBackprojections, propagated.meshFaces * propagated.lights,
+        propagated.propagationFallbacks,
+        scratch.secondsBackprojections / propagated.secondsBackprojections,
+        scratch.secondsVerification, propagated.secondsVerification, scratch.unresolvedFaces,
+        propagated.unresolvedFaces);
+  }
 
   // Irradiance at the mesh vertices: backprojection vs reference.
   const std::vector<VertexSample> vertices = meshVertices(engine);

@@ -8,7 +8,8 @@
 // faces answering from their sample's labels alone (the mesh as built), then with face
 // verification (DmOptions::verifyFaces), with the count of faces it found unresolved.
 //
-// Usage: dm_exactness [--points N]   (N per scene and copy, default 2000)
+// Usage: dm_exactness [--points N] [--propagate on|off]   (N per scene and copy, default 2000;
+// --propagate sets DmOptions::propagateBackprojections, else its default)
 // Prints one line per scene and copy, then the totals; exits 0 (a report, not a test).
 
 #include <algorithm>
@@ -128,10 +129,11 @@ struct Tally {
 };
 
 Tally compare(const std::string& name, const Scene& scene, int points, std::uint64_t seed,
-              bool verifyFaces) {
+              bool verifyFaces, bool propagate) {
   const PosedScene posed = poseAt(scene, 0);
   const auto start = Clock::now();
-  DiscontinuityMeshEngine engine({.eeeSurfaces = true, .verifyFaces = verifyFaces});
+  DiscontinuityMeshEngine engine(
+      {.eeeSurfaces = true, .verifyFaces = verifyFaces, .propagateBackprojections = propagate});
   engine.build(PosedScene(posed));
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const UniformGrid grid(posed);
@@ -173,8 +175,11 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
 
 int main(int argc, char** argv) {
   int points = 2000;
-  for (int i = 1; i + 1 < argc; ++i)
+  bool propagate = DmOptions{}.propagateBackprojections;
+  for (int i = 1; i + 1 < argc; ++i) {
     if (!std::strcmp(argv[i], "--points")) points = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--propagate")) propagate = !std::strcmp(argv[i + 1], "on");
+  }
   const std::string root = PENUMBRA_SOURCE_DIR;
   const auto tmp = std::filesystem::temp_directory_path() / "penumbra-bench";
   std::filesystem::create_directories(tmp);
@@ -198,8 +203,10 @@ int main(int argc, char** argv) {
     scenes.push_back({"rotated-boxes-seed" + std::to_string(seed),
                       written("exact-boxes-" + std::to_string(seed), rotatedBoxesJson(seed))});
 
-  std::printf("# dm vs exact reference, %d points per scene (half uniform, half penumbra)\n",
-              points);
+  std::printf(
+      "# dm vs exact reference, %d points per scene (half uniform, half penumbra); "
+      "backprojections %s\n",
+      points, propagate ? "propagated between faces (where verified)" : "from scratch");
   std::printf("%-34s %6s %6s %6s %9s %7s %s\n", "scene", "polys", "points", "differ", "worst",
               "build s", "unresolved/faces");
   for (bool verifyFaces : {false, true}) {
@@ -209,9 +216,10 @@ int main(int argc, char** argv) {
     std::uint64_t seed = 100;
     for (const auto& [name, path] : scenes) {
       Scene scene = loadScene(path);
-      const Tally a = compare(name, scene, points, seed, verifyFaces);
+      const Tally a = compare(name, scene, points, seed, verifyFaces, propagate);
       triangulate(scene);
-      const Tally b = compare(name + " (triangles)", scene, points, seed + 7, verifyFaces);
+      const Tally b =
+          compare(name + " (triangles)", scene, points, seed + 7, verifyFaces, propagate);
       total.points += a.points;
       total.differ += a.differ;
       totalTriangulated.points += b.points;

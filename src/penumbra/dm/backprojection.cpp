@@ -65,9 +65,35 @@ BackprojectionBuilder::BackprojectionBuilder(const PosedScene& scene, const Unif
 
 Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, const Vec3& n,
                                               std::optional<PolygonId> receiver) const {
+  return labelRegion(reference_.visibleLight(p, n, lightId, receiver), p, n);
+}
+
+Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, const Vec3& n,
+                                              std::optional<PolygonId> receiver,
+                                              std::vector<PolygonId>& occluders) const {
+  VisibleLight visible = reference_.visibleLight(p, n, lightId, receiver);
+  Backprojection result = labelRegion(visible, p, n);
+  occluders = std::move(visible.occluders);
+  return result;
+}
+
+Backprojection BackprojectionBuilder::computeAmong(PolygonId lightId, const Vec3& p, const Vec3& n,
+                                                   std::optional<PolygonId> receiver,
+                                                   const std::vector<PolygonId>& candidates,
+                                                   std::vector<PolygonId>& occluders) const {
+  const WorldPolygon& light = scene_.polygons[lightId];
+  VisibleLight visible =
+      reference_.visiblePart(p, n, light.vertices, light.plane, lightId, candidates, receiver);
+  Backprojection result = labelRegion(visible, p, n);
+  occluders = std::move(visible.occluders);
+  return result;
+}
+
+Backprojection BackprojectionBuilder::labelRegion(const VisibleLight& visible, const Vec3& p,
+                                                  const Vec3& n) const {
+  const PolygonId lightId = visible.light;
   Backprojection result;
   result.light = lightId;
-  const VisibleLight visible = reference_.visibleLight(p, n, lightId, receiver);
   if (visible.rings.empty()) return result;
 
   const WorldPolygon& light = scene_.polygons[lightId];

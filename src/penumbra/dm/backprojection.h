@@ -63,6 +63,18 @@ class BackprojectionBuilder {
 
   Backprojection compute(PolygonId light, const Vec3& p, const Vec3& n,
                          std::optional<PolygonId> receiver) const;
+  // As compute(), also giving the polygons that entered the visible region's boolean operation
+  // (VisibleLight::occluders: every polygon in the cone from p to the light).
+  Backprojection compute(PolygonId light, const Vec3& p, const Vec3& n,
+                         std::optional<PolygonId> receiver,
+                         std::vector<PolygonId>& occluders) const;
+  // As compute(), with only `candidates` (distinct ids) as possible occluders
+  // (ExactReference::visiblePart): the same labels when every polygon that can hide part of
+  // the light from p is a candidate. `occluders` gets the candidates in the cone.
+  Backprojection computeAmong(PolygonId light, const Vec3& p, const Vec3& n,
+                              std::optional<PolygonId> receiver,
+                              const std::vector<PolygonId>& candidates,
+                              std::vector<PolygonId>& occluders) const;
   // The visible rings of `backprojection` seen from q (normal n), exact while q stays in the region
   // where the labels hold (a face of the complete mesh).
   std::vector<Polygon3> evaluate(const Backprojection& backprojection, const Vec3& q, const Vec3& n,
@@ -71,6 +83,9 @@ class BackprojectionBuilder {
                  std::optional<PolygonId> receiver) const;
 
  private:
+  // Labels the vertices of the visible region seen from p.
+  Backprojection labelRegion(const VisibleLight& visible, const Vec3& p, const Vec3& n) const;
+
   const PosedScene& scene_;
   const UniformGrid& grid_;
   const ExactReference& reference_;

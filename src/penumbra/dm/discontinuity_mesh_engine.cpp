@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "penumbra/dm/crossing_occluders.h"
 #include "penumbra/dm/fan_visibility.h"
 #include "penumbra/dm/receiver_plane_events.h"
 #include "penumbra/dm/surface_casting.h"
@@ -211,37 +212,153 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
 
   start = Clock::now();
   const double sliver = kSliverSize * scene.bounds.diagonalLength();
-  for (auto& [id, data] : receivers_) {
-    const WorldPolygon& receiver = scene.polygons[id];
-    for (const MeshFace& face : data.mesh.faces()) {
-      FaceData faceData;
-      for (PolygonId light : scene.lights) {
-        Backprojection bp =
-            backprojections_->compute(light, face.samplePoint, receiver.plane.normal, id);
-        stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
-        for (const auto& cycle : bp.cycles) {
-          stats_.backprojectionVertices += (long long)cycle.size();
-          stats_.backprojectionBytes += cycle.capacity() * sizeof(BackprojectionVertex);
-        }
-        faceData.perLight.push_back(std::move(bp));
-      }
-      // Faces of no area (where extended segments overshoot one another) hold no query and
-      // their labels are degenerate: not verified.
-      if (options_.verifyFaces && face.area > sliver * sliver) {
-        const auto verifying = Clock::now();
-        faceData.unresolved = !labelsHoldAtCorners(data.mesh, face, faceData, data.eeeSegments);
-        stats_.secondsVerification += secondsSince(verifying);
-      }
-      stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
-      data.faces.push_back(std::move(faceData));
+  for (auto& [id, data] : receivers_) computeFaceBackprojections(id, data, sliver);
+  stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
+}
+
+void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, ReceiverData& data,
+                                                         double sliver) {
+  const PosedScene& scene = *posed_;
+  const Vec3& normal = scene.polygons[receiverId].plane.normal;
+  const std::vector<MeshFace>& faces = data.mesh.faces();
+  const size_t lights = scene.lights.size();
+  // Propagation rests on verification: without it a wrong candidate set would go unnoticed.
+  const bool propagate = options_.propagateBackprojections && options_.verifyFaces;
+
+  // Face adjacency, and for each crossing the polygons its events name (or none: from scratch).
+  std::vector<std::vector<std::pair<int, int>>> neighbours(faces.size());  // (face, crossing)
+  std::vector<std::optional<std::vector<PolygonId>>> named;
+  if (propagate) {
+    const CrossingOccluders crossingOccluders(scene, *adjacency_, surfaces_, eeeSurfaces_);
+    for (const FaceCrossing& c : data.mesh.faceCrossings()) {
+      std::vector<PolygonId> polygons;
+      named.push_back(crossingOccluders.addNamedPolygons(c.surfaces, polygons)
+                          ? std::optional(std::move(polygons))
+                          : std::nullopt);
+      neighbours[c.face].push_back({c.other, int(named.size()) - 1});
+      neighbours[c.other].push_back({c.face, int(named.size()) - 1});
     }
   }
-  stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
+  // Per face and light the cone's polygons, and whether the face may lend them: its labels were
+  // verified at its corners (an event crossing it would make them wrong at its neighbours).
+  std::vector<std::vector<std::vector<PolygonId>>> occluders(faces.size());
+  std::vector<char> isSource(faces.size(), 0);
+  data.faces.assign(faces.size(), {});
+
+  const auto verify = [&](const MeshFace& face, FaceData& faceData, std::vector<int>& compared) {
+    compared.assign(lights, 0);
+    // Faces of no area (where extended segments overshoot one another) hold no query and their
+    // labels are degenerate: not verified.
+    if (!options_.verifyFaces || face.area <= sliver * sliver) return false;
+    const auto verifying = Clock::now();
+    faceData.unresolved =
+        !labelsHoldAtCorners(data.mesh, face, faceData, data.eeeSegments, &compared);
+    stats_.secondsVerification += secondsSince(verifying);
+    return true;
+  };
+
+  const auto computeFace = [&](int f) {
+    const MeshFace& face = faces[f];
+    FaceData& faceData = data.faces[f];
+    // Beside an EEE polyline the sample may lie across the true conic from the mesh's edge.
+    const bool mayPropagate = propagate && face.area > sliver * sliver &&
+                              !data.eeeSegments.near(face.samplePoint, nearEee());
+    occluders[f].assign(lights, {});
+    std::vector<char> propagated(lights, 0);
+    for (size_t l = 0; l < lights; ++l) {
+      const PolygonId light = scene.lights[l];
+      // The verified neighbour offering the fewest candidates.
+      std::optional<std::vector<PolygonId>> candidates;
+      for (const auto& [g, c] : neighbours[f]) {
+        if (!mayPropagate) break;
+        if (!isSource[g] || !named[c]) continue;
+        // A neighbour that sees nothing of the light for want of a cone (behind the light's
+        // plane) has no occluders to lend.
+        if (data.faces[g].perLight[l].cycles.empty() && occluders[g][l].empty()) continue;
+        if (candidates && candidates->size() <= occluders[g][l].size() + named[c]->size()) continue;
+        candidates = occluders[g][l];
+        candidates->insert(candidates->end(), named[c]->begin(), named[c]->end());
+      }
+      if (candidates) {
+        std::sort(candidates->begin(), candidates->end());
+        candidates->erase(std::unique(candidates->begin(), candidates->end()), candidates->end());
+        faceData.perLight.push_back(backprojections_->computeAmong(
+            light, face.samplePoint, normal, receiverId, *candidates, occluders[f][l]));
+        propagated[l] = 1;
+      } else {
+        faceData.perLight.push_back(backprojections_->compute(light, face.samplePoint, normal,
+                                                              receiverId, occluders[f][l]));
+      }
+    }
+    std::vector<int> compared;
+    bool verified = verify(face, faceData, compared);
+    // A propagated backprojection is kept only where verification vouches for it: labelled,
+    // compared at a corner at least, and the face resolved. Otherwise from scratch, re-verified.
+    bool redo = false;
+    for (size_t l = 0; l < lights; ++l)
+      redo = redo || (propagated[l] && (!verified || faceData.unresolved ||
+                                        !faceData.perLight[l].isLabelled || compared[l] == 0));
+    if (redo) {
+      // Verification compares label sets, so labels from scratch equal to the propagated ones
+      // (the face is truly unresolved) get the same verdict: only changed labels are re-verified.
+      bool changed = false;
+      for (size_t l = 0; l < lights; ++l) {
+        if (!propagated[l]) continue;
+        Backprojection fresh = backprojections_->compute(scene.lights[l], face.samplePoint, normal,
+                                                         receiverId, occluders[f][l]);
+        const Backprojection& old = faceData.perLight[l];
+        changed = changed || fresh.isLabelled != old.isLabelled ||
+                  (fresh.isLabelled && !sameLabels(fresh, old, *adjacency_));
+        faceData.perLight[l] = std::move(fresh);
+        propagated[l] = 0;
+        ++stats_.propagationFallbacks;
+      }
+      if (changed) {
+        faceData.unresolved = false;
+        verified = verify(face, faceData, compared);
+      }
+    }
+    for (size_t l = 0; l < lights; ++l) stats_.propagatedBackprojections += propagated[l];
+    bool lends = verified && !faceData.unresolved && mayPropagate;
+    for (size_t l = 0; l < lights; ++l)
+      lends = lends && faceData.perLight[l].isLabelled && compared[l] > 0;
+    isSource[f] = lends ? 1 : 0;
+  };
+
+  // Breadth first through face adjacency, so that most faces have a computed neighbour.
+  std::vector<char> queued(faces.size(), 0);
+  std::vector<int> queue;
+  for (size_t seed = 0; seed < faces.size(); ++seed) {
+    if (queued[seed]) continue;
+    queued[seed] = 1;
+    queue.assign(1, int(seed));
+    for (size_t next = 0; next < queue.size(); ++next) {
+      const int f = queue[next];
+      computeFace(f);
+      for (const auto& [g, c] : neighbours[f])
+        if (!queued[g]) {
+          queued[g] = 1;
+          queue.push_back(g);
+        }
+    }
+  }
+
+  for (const FaceData& faceData : data.faces) {
+    for (const Backprojection& bp : faceData.perLight) {
+      stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
+      for (const auto& cycle : bp.cycles) {
+        stats_.backprojectionVertices += (long long)cycle.size();
+        stats_.backprojectionBytes += cycle.capacity() * sizeof(BackprojectionVertex);
+      }
+    }
+    stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
+  }
 }
 
 bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
                                                   const FaceData& data,
-                                                  const SegmentProximity& eeeSegments) const {
+                                                  const SegmentProximity& eeeSegments,
+                                                  std::vector<int>* compared) const {
   const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
   // Events meeting at one point leave clusters of corners a few ulps apart: one check each.
   const double apart = 1e-7 * posed_->bounds.diagonalLength();
@@ -264,7 +381,9 @@ bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, cons
         if (!atSample.isLabelled) continue;
         const Backprojection here =
             backprojections_->compute(posed_->lights[l], p, receiver.plane.normal, receiver.id);
-        if (here.isLabelled && !sameLabels(here, atSample, *adjacency_)) return false;
+        if (!here.isLabelled) continue;
+        if (compared) ++(*compared)[l];
+        if (!sameLabels(here, atSample, *adjacency_)) return false;
       }
     }
   return true;

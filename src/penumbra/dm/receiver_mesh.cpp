@@ -309,6 +309,17 @@ std::vector<std::pair<Vec3, Vec3>> ReceiverMesh::faceBoundarySegments(int face) 
   return segments;
 }
 
+std::vector<FaceCrossing> ReceiverMesh::faceCrossings() const {
+  std::vector<FaceCrossing> crossings;
+  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
+    const int left = e->face()->data(), right = e->twin()->face()->data();
+    if (left < 0 || right < 0 || left == right) continue;
+    crossings.push_back(
+        {left, right, std::vector<SurfaceId>(e->curve().data().begin(), e->curve().data().end())});
+  }
+  return crossings;
+}
+
 const PlaneFrame& ReceiverMesh::frame() const {
   return impl_->frame;
 }

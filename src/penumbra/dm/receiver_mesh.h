@@ -21,6 +21,13 @@ struct MeshFace {
   double area = 0;
 };
 
+// An edge between two different inside faces, with the surfaces that made it: walking from one
+// face to the other crosses exactly these events.
+struct FaceCrossing {
+  int face = 0, other = 0;
+  std::vector<SurfaceId> surfaces;
+};
+
 class ReceiverMesh {
  public:
   static constexpr SurfaceId kBoundary = -1;
@@ -54,6 +61,9 @@ class ReceiverMesh {
   std::vector<Polygon3> faceBoundary(int face) const;
   // The edges that separate a face from other faces (antennas left out), as 3D segments.
   std::vector<std::pair<Vec3, Vec3>> faceBoundarySegments(int face) const;
+  // Every edge separating two different inside faces (face adjacency for propagating per-face
+  // data; antennas and the outline left out).
+  std::vector<FaceCrossing> faceCrossings() const;
   // The receiver's plane frame, in which the mesh is built.
   const PlaneFrame& frame() const;
   size_t memoryBytes() const;
