@@ -4,12 +4,13 @@
 // 195 MHz R10000).
 //
 // Usage: radiosity_bench [--tolerance T] [--furnace] [--convergence] [--element-shares]
-//                        [--ray-visibility] [scene.json ...]
+//                        [--exact-visibility] [scene.json ...]
 // (default: the Cornell box and both chair rooms at tolerances 1e-3 and 3e-4).
 // --furnace: every material emits 1 with reflectance 0.5, the lamps left out: the irradiance must
 //   be 2 everywhere, absorbed = emitted.
 // --element-shares: RadiosityOptions::elementSourceShares (element sources send per cell).
-// --ray-visibility: element links' visibility by 16 rays instead of exactly (exactVisibility off).
+// --exact-visibility: RadiosityOptions::exactVisibility (element links' visibility computed
+//   exactly at 16 receiver points instead of by 16 rays).
 // --convergence: the direct part at the element vertices of the first scene against the exact
 //   reference irradiance, per tolerance: links, mean and largest error (relative to the mean
 //   exact irradiance), seconds.
@@ -37,7 +38,7 @@ using namespace penumbra;
 namespace {
 
 void run(const std::string& path, double tolerance, bool furnace, bool elementShares,
-         bool rayVisibility) {
+         bool exactVisibility) {
   Scene scene = loadScene(path);
   // The furnace leaves out the lamps (objects named "light"): single polygons 1 cm below the
   // ceiling, whose dark backs the ceiling sees, where E < M/(1−ρ) in the exact solution too.
@@ -50,7 +51,7 @@ void run(const std::string& path, double tolerance, bool furnace, bool elementSh
   RadiosityOptions options;
   options.tolerance = tolerance;
   options.elementSourceShares = elementShares;
-  options.exactVisibility = !rayVisibility;
+  options.exactVisibility = exactVisibility;
   RadiositySolver solver(options);
   solver.build(scene, 0);
   const RadiosityStats& s = solver.stats();
@@ -159,7 +160,7 @@ void convergence(const std::string& path, const std::vector<double>& tolerances)
 int main(int argc, char** argv) {
   std::vector<double> tolerances;
   std::vector<std::string> scenes;
-  bool furnace = false, convergenceTable = false, elementShares = false, rayVisibility = false;
+  bool furnace = false, convergenceTable = false, elementShares = false, exactVisibility = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--tolerance" && i + 1 < argc)
@@ -168,8 +169,8 @@ int main(int argc, char** argv) {
       furnace = true;
     else if (arg == "--element-shares")
       elementShares = true;
-    else if (arg == "--ray-visibility")
-      rayVisibility = true;
+    else if (arg == "--exact-visibility")
+      exactVisibility = true;
     else if (arg == "--convergence")
       convergenceTable = true;
     else
@@ -195,6 +196,6 @@ int main(int argc, char** argv) {
               "solve", "abs/em");
   for (double tolerance : tolerances)
     for (const std::string& scene : scenes)
-      run(scene, tolerance, furnace, elementShares, rayVisibility);
+      run(scene, tolerance, furnace, elementShares, exactVisibility);
   return 0;
 }

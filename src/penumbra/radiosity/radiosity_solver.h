@@ -52,9 +52,11 @@ struct RadiosityOptions {
   // source minus the projections of the polygons in the link's shaft, as the exact reference
   // computes a light's visible part) instead of by rays. Exact per point, so a point's visible
   // form factors sum to 1 in a closed scene, and the receiver oracle sees where visibility
-  // varies; rays (off) leave each link's visibility with a 16-sample noise. Not with
-  // elementSourceShares, which needs the rays' ends.
-  bool exactVisibility = true;
+  // varies; rays leave each link's visibility with a 16-sample noise. Not with
+  // elementSourceShares, which needs the rays' ends. Off by default for its cost: under the
+  // bundled rooms' lamps, whose links refine down to every shadow boundary, it makes the
+  // solution 3-11x slower (furnished room at 1e-3: 118 s against 10 s; docs/radiosity.md).
+  bool exactVisibility = false;
   // Links whose unoccluded transfer is below this keep ray visibility: their noise adds little
   // (errors of independent links add in quadrature) and they are most of the links; every link
   // exact cost about 1.5x more for no measurable gain in the furnace (docs/radiosity.md).
