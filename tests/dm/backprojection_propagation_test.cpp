@@ -8,7 +8,6 @@
 #include <string>
 
 #include "penumbra/dm/discontinuity_mesh_engine.h"
-#include "penumbra/geometry/quaternion.h"
 #include "penumbra/scene/scene_generator.h"
 #include "penumbra/scene/scene_loader.h"
 #include "support/boxes.h"
@@ -81,15 +80,7 @@ TEST(BackprojectionPropagation, MissingEventsMatchFromScratch) {
   b.addMaterial("white", {0.5, 0.5, 0.5}).addMaterial("lamp", {0, 0, 0}, {10, 10, 10});
   test::addRoom(b, "white", {0, 0, 0}, {4, 4, 3});
   b.addPolygon("lamp", {{1.5, 1.5, 2.9}, {1.5, 2.5, 2.9}, {2.5, 2.5, 2.9}, {2.5, 1.5, 2.9}});
-  const Quaternion turn = Quaternion::fromAxisAngle(normalize(Vec3{1, 2, 0.5}), 0.7);
-  const Quaternion other = Quaternion::fromAxisAngle(normalize(Vec3{-1, 0.5, 2}), 1.1);
-  for (Polygon3 face : test::boxFaces({-0.35, -0.25, -0.1}, {0.35, 0.25, 0.1})) {
-    Polygon3 upper = face;
-    for (Vec3& v : face) v = turn.toMatrix() * v + Vec3{2.0, 1.9, 1.2};
-    for (Vec3& v : upper) v = other.toMatrix() * v + Vec3{2.1, 2.0, 2.0};
-    b.addPolygon("white", face, "lower");
-    b.addPolygon("white", upper, "upper");
-  }
+  test::addTiltedBoxPair(b, "white");
   expectSameAsFromScratch(b.pose(), {.eeeSurfaces = false});
   expectSameAsFromScratch(b.pose());
 }

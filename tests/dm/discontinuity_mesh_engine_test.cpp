@@ -81,15 +81,7 @@ TEST(DiscontinuityMeshEngine, Desk145IsExact) {
 // tilted axes, one above the other, give EEE events where their shadows overlap.
 TEST(DiscontinuityMeshEngine, FaceVerificationCatchesFacesCrossedByMissingEvents) {
   test::SceneBuilder b = litRoom();
-  const Quaternion turn = Quaternion::fromAxisAngle(normalize(Vec3{1, 2, 0.5}), 0.7);
-  const Quaternion other = Quaternion::fromAxisAngle(normalize(Vec3{-1, 0.5, 2}), 1.1);
-  for (Polygon3 face : test::boxFaces({-0.35, -0.25, -0.1}, {0.35, 0.25, 0.1})) {
-    Polygon3 upper = face;
-    for (Vec3& v : face) v = turn.toMatrix() * v + Vec3{2.0, 1.9, 1.2};
-    for (Vec3& v : upper) v = other.toMatrix() * v + Vec3{2.1, 2.0, 2.0};
-    b.addPolygon("white", face, "lower");
-    b.addPolygon("white", upper, "upper");
-  }
+  test::addTiltedBoxPair(b, "white");
   const PosedScene scene = b.pose();
   DiscontinuityMeshEngine complete, withoutEee({.eeeSurfaces = false});
   complete.build(PosedScene(scene));

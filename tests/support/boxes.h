@@ -1,6 +1,7 @@
 #pragma once
 // Closed boxes (outward-facing quads) for test scenes.
 
+#include "penumbra/geometry/quaternion.h"
 #include "support/scene_builder.h"
 
 namespace penumbra::test {
@@ -25,6 +26,21 @@ inline void addRoom(SceneBuilder& b, const std::string& material, const Vec3& lo
   for (Polygon3 f : boxFaces(lo, hi)) {
     std::reverse(f.begin(), f.end());
     b.addPolygon(material, f, "room");
+  }
+}
+
+// Two flat boxes turned about tilted axes, one above the other (objects "lower" and "upper"),
+// for a room 4 x 4 x 3 lit from its ceiling: where their shadows overlap, EEE events of edges of
+// both boxes cross the floor.
+inline void addTiltedBoxPair(SceneBuilder& b, const std::string& material) {
+  const Quaternion turn = Quaternion::fromAxisAngle(normalize(Vec3{1, 2, 0.5}), 0.7);
+  const Quaternion other = Quaternion::fromAxisAngle(normalize(Vec3{-1, 0.5, 2}), 1.1);
+  for (Polygon3 face : boxFaces({-0.35, -0.25, -0.1}, {0.35, 0.25, 0.1})) {
+    Polygon3 upper = face;
+    for (Vec3& v : face) v = turn.toMatrix() * v + Vec3{2.0, 1.9, 1.2};
+    for (Vec3& v : upper) v = other.toMatrix() * v + Vec3{2.1, 2.0, 2.0};
+    b.addPolygon(material, face, "lower");
+    b.addPolygon(material, upper, "upper");
   }
 }
 
