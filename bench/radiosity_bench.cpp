@@ -94,28 +94,41 @@ void run(const std::string& path, double tolerance, bool furnace, bool elementSh
       }
       return false;
     };
-    double low = 1e300, high = -1e300, sum = 0, area = 0, within = 0, backArea = 0, frontWithin = 0;
-    for (const Element& e : solver.elements())
-      if (e.isLeaf()) {
-        const double irradiance =
-            (e.radiometry.irradianceDirect + e.radiometry.irradianceIndirect).average();
+    // Leaves that see back faces are counted once, for both measures below.
+    std::vector<char> back(solver.elements().size(), 0);
+    for (size_t i = 0; i < back.size(); ++i)
+      if (solver.elements()[i].isLeaf()) back[i] = seesBackFaces(solver.elements()[i]) ? 1 : 0;
+    // The solution's leaf irradiance (the mean pushed down from the links above) and what is
+    // shown (the final gather's, see RadiosityOptions::finalGather), side by side.
+    const auto report = [&](const char* what, Rgb NodeRadiometry::*direct,
+                            Rgb NodeRadiometry::*indirect) {
+      double low = 1e300, high = -1e300, sum = 0, area = 0, within = 0, backArea = 0,
+             frontWithin = 0;
+      for (size_t i = 0; i < back.size(); ++i) {
+        const Element& e = solver.elements()[i];
+        if (!e.isLeaf()) continue;
+        const double irradiance = (e.radiometry.*direct + e.radiometry.*indirect).average();
         low = std::min(low, irradiance);
         high = std::max(high, irradiance);
         sum += irradiance * e.area;
         area += e.area;
         const bool close = std::abs(irradiance - 2) <= 0.02;
         if (close) within += e.area;
-        if (seesBackFaces(e))
+        if (back[i])
           backArea += e.area;
         else if (close)
           frontWithin += e.area;
       }
-    std::printf(
-        "  furnace: area mean of E %.5f (expected 2, error %.3f%%), absorbed/emitted %.5f, leaf E "
-        "in [%.3f, %.3f], area within 1%%: %.1f%%; %.2f%% of the area sees back faces, %.1f%% of "
-        "the rest within 1%%\n",
-        sum / area, 100 * std::abs(sum / area - 2) / 2, absorbed.average() / emitted.average(), low,
-        high, 100 * within / area, 100 * backArea / area, 100 * frontWithin / (area - backArea));
+      std::printf(
+          "  furnace, %-11s area mean of E %.5f (error %.3f%%), leaf E in [%.3f, %.3f], area "
+          "within 1%%: %.1f%%; %.2f%% of the area sees back faces, %.1f%% of the rest within 1%%\n",
+          what, sum / area, 100 * std::abs(sum / area - 2) / 2, low, high, 100 * within / area,
+          100 * backArea / area, 100 * frontWithin / (area - backArea));
+    };
+    std::printf("  furnace: expected E = 2; absorbed/emitted %.5f; final gather %.3f s\n",
+                absorbed.average() / emitted.average(), s.finalGatherSeconds);
+    report("solution:", &NodeRadiometry::irradianceDirect, &NodeRadiometry::irradianceIndirect);
+    report("shown:", &NodeRadiometry::finalDirect, &NodeRadiometry::finalIndirect);
   }
 }
 

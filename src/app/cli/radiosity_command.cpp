@@ -29,6 +29,7 @@ nlohmann::json statsJson(const RadiosityStats& s) {
           {"residual", s.residual},
           {"refine_seconds", s.refineSeconds},
           {"solve_seconds", s.solveSeconds},
+          {"final_gather_seconds", s.finalGatherSeconds},
           {"memory_bytes",
            {{"clusters", s.clusterBytes},
             {"elements", s.elementBytes},

@@ -22,6 +22,11 @@ struct NodeRadiometry {
   Rgb gatheredIndirect;  // ... and from reflected radiosity
   Rgb irradianceDirect;  // gathered here plus everything pushed down from ancestors
   Rgb irradianceIndirect;
+  // At leaves, the irradiance shown (mesh, probes): re-gathered at the leaf's own points from
+  // every active link above it (final_gather.cpp), or the above when RadiosityOptions::finalGather
+  // is off.
+  Rgb finalDirect;
+  Rgb finalIndirect;
   Rgb radiosity;            // B = M + ρ (E_direct + E_indirect) at leaves, area mean above
   Rgb reflected;            // B − M
   double maxRadiosity = 0;  // largest leaf radiosity component below (for the refinement oracle)

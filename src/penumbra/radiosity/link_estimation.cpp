@@ -166,6 +166,9 @@ struct FormFactorQuadrature {
       sum += areas[k] * values[k];
       total += areas[k];
     }
+    // A sliver whose children's areas round to nothing (a receiver cut by the source's plane
+    // within rounding of a vertex): its centre value is all there is.
+    if (!(total > 0)) return centre;
     const double estimate = sum / total;
     if (level >= kMaxLevel ||
         (level >= kMinLevel && std::abs(estimate - centre) <= kAbsoluteTolerance))
@@ -514,10 +517,10 @@ void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, con
 
 namespace penumbra {
 
-// The link's transfer seen from one point of its receiver: the exact unoccluded point form factor
-// to a source element (to the root elements of a source cluster) times the link's visibility.
-double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
-                                      bool covered) const {
+// The link's unoccluded transfer seen from one point of its receiver: the exact point form factor
+// to a source element (to the root elements of a source cluster).
+double RadiositySolver::unoccludedPointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
+                                                bool covered) const {
   const NodeRef s = link.source;
   double f = 0;
   if (!s.isCluster()) {
@@ -533,7 +536,12 @@ double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec
     for (int i = c.elementBegin; i < c.elementEnd; ++i)
       f += pointToElement(x, normal, elements_[rootOrder_[i]]);
   }
-  return f * link.visibility;
+  return f;
+}
+
+double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
+                                      bool covered) const {
+  return unoccludedPointTransfer(link, x, normal, covered) * link.visibility;
 }
 
 }  // namespace penumbra

@@ -100,6 +100,16 @@ void RadiositySolver::build(const PosedScene& scene) {
     stats_.solveSeconds += elapsedSeconds(solveStart);
   }
   pointTransfers_ = {};
+  const auto gatherStart = std::chrono::steady_clock::now();
+  if (options_.finalGather) {
+    finalGather();
+  } else {
+    for (Element& e : elements_) {
+      e.radiometry.finalDirect = e.radiometry.irradianceDirect;
+      e.radiometry.finalIndirect = e.radiometry.irradianceIndirect;
+    }
+  }
+  stats_.finalGatherSeconds = elapsedSeconds(gatherStart);
   buildMesh();
   computeStats();
   stats_.totalSeconds = elapsedSeconds(start);

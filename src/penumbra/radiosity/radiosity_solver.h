@@ -73,6 +73,10 @@ struct RadiosityOptions {
   // from 0.27% at tolerance 1e-3 to 0.70% at 3e-4 (energy created on the floor, cause not yet
   // found), so it is off until that is understood (docs/radiosity.md, known limits).
   bool elementSourceShares = false;
+  // The irradiance shown at the leaves (mesh, probes) re-gathered at each leaf's own points from
+  // every active link above it (final_gather.cpp), instead of the mean its ancestors pushed down.
+  // The solution (B, the energy balance) is the same either way.
+  bool finalGather = true;
   std::uint64_t seed = 1;
 };
 
@@ -102,6 +106,7 @@ struct RadiosityStats {
   }
   double refineSeconds = 0;
   double solveSeconds = 0;
+  double finalGatherSeconds = 0;
   double totalSeconds = 0;
 };
 
@@ -176,6 +181,9 @@ class RadiositySolver {
   // The link's transfer seen from the point x of its element receiver (`covered`: x lies under a
   // polygon in contact with the receiver).
   double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;
+  // The same without visibility: the exact point form factor to the source.
+  double unoccludedPointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
+                                 bool covered) const;
   bool refineActiveLinks();
   void solve();
   // What the link's source sends per unit transfer: its `quantity` (emission, reflected or total
@@ -183,6 +191,8 @@ class RadiositySolver {
   Rgb sourceValue(const Link& link, Rgb NodeRadiometry::*quantity) const;
   void pushPull(NodeRef node, const Rgb& direct, const Rgb& indirect, double& largestChange);
   void pullEmission(NodeRef node);
+  // Re-gathers every leaf's irradiance at its own points (NodeRadiometry::finalDirect/Indirect).
+  void finalGather();
   void buildMesh();
   void computeStats();
 

@@ -43,9 +43,12 @@ void RadiositySolver::buildMesh() {
         }
         const std::uint32_t v = it->second;
         leafVertices_[id][i] = v;
-        mesh_.radiosity[v] += e.radiometry.radiosity * e.area;
-        mesh_.directIrradiance[v] += e.radiometry.irradianceDirect * e.area;
-        mesh_.indirectIrradiance[v] += e.radiometry.irradianceIndirect * e.area;
+        // What is shown: the final gather's irradiance, and the radiosity it gives.
+        const NodeRadiometry& m = e.radiometry;
+        mesh_.radiosity[v] +=
+            (m.emission + e.reflectance * (m.finalDirect + m.finalIndirect)) * e.area;
+        mesh_.directIrradiance[v] += m.finalDirect * e.area;
+        mesh_.indirectIrradiance[v] += m.finalIndirect * e.area;
         weights[v] += e.area;
       }
       const auto& lv = leafVertices_[id];
