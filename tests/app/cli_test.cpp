@@ -214,7 +214,8 @@ TEST(Cli, ShadowsFullWritesAReportAndAMeshPerFrame) {
   text << in.rdbuf();
   for (const char* key :
        {"\"frames\"", "\"frame\": 1", "\"frame\": 2", "\"seconds\"", "\"peak_memory_bytes\"",
-        "\"ev_non_emitter\"", "\"faces\"", "\"stored_intersections\"", "\"receivers\""})
+        "\"ev_non_emitter\"", "\"faces\"", "\"stored_intersections\"", "\"receivers\"",
+        "\"light_plane_segments\"", "\"horizon_segments\""})
     EXPECT_NE(text.str().find(key), std::string::npos) << key;
   for (const char* ply : {"/frame-1.ply", "/frame-2.ply"}) {
     std::ifstream mesh(meshes + ply);

@@ -36,6 +36,8 @@ nlohmann::json statsJson(const DmStats& s) {
           {"stored_intersections", s.storedIntersections},
           {"visible_segments", s.visibleSegments},
           {"contact_segments", s.contactSegments},
+          {"light_plane_segments", s.lightPlaneSegments},
+          {"horizon_segments", s.horizonSegments},
           {"mesh",
            {{"vertices", s.meshVertices},
             {"edges", s.meshEdges},
