@@ -97,6 +97,41 @@ TEST(DiscontinuityMeshEngine, FaceVerificationCatchesFacesCrossedByMissingEvents
   EXPECT_GT(unverified.failures, 0);
 }
 
+// Three thin strips at three heights, turned about the vertical by different angles: from floor
+// points under them the crossing of two strips' projected edges passes over the third's inside the
+// light, an EEE event of three occluder edges. Without those surfaces the faces they cross are
+// caught by verification and the mesh alone is wrong there; with them the mesh alone is exact.
+TEST(DiscontinuityMeshEngine, ThreeOccluderEdgeEventsCompleteTheMesh) {
+  test::SceneBuilder b = litRoom();
+  const auto addStrip = [&](double height, double angle, double dx) {
+    const double c = std::cos(angle), s = std::sin(angle), halfLength = 1.2, halfWidth = 0.02;
+    Polygon3 strip;
+    for (const auto& [u, v] : {std::pair{-halfLength, -halfWidth},
+                               {-halfLength, halfWidth},
+                               {halfLength, halfWidth},
+                               {halfLength, -halfWidth}})
+      strip.push_back({2 + dx + u * c - v * s, 2 + u * s + v * c, height});
+    b.addPolygon("white", strip);
+  };
+  addStrip(2.2, 0.3, 0.0);
+  addStrip(1.7, -0.6, 0.1);
+  addStrip(1.2, 1.3, -0.1);
+  const PosedScene scene = b.pose();
+  DiscontinuityMeshEngine complete, withoutThree({.occluderEeeSurfaces = false});
+  complete.build(PosedScene(scene));
+  withoutThree.build(PosedScene(scene));
+  EXPECT_GT(complete.stats().surfacesEeeOccluder, 0);
+  EXPECT_EQ(withoutThree.stats().surfacesEeeOccluder, 0);
+  EXPECT_GT(withoutThree.stats().unresolvedFaces, complete.stats().unresolvedFaces);
+  const Comparison meshAlone = compareWithReference(scene, 4000, 24, {.verifyFaces = false});
+  EXPECT_EQ(meshAlone.failures, 0)
+      << meshAlone.failures << " of " << meshAlone.points << ", first " << meshAlone.firstFailure;
+  const Comparison meshAloneWithoutThree =
+      compareWithReference(scene, 4000, 24, {.occluderEeeSurfaces = false, .verifyFaces = false});
+  EXPECT_GT(meshAloneWithoutThree.failures, 0);
+  expectExact(scene, 1500, 25);
+}
+
 TEST(DiscontinuityMeshEngine, FloatingBoxIsExact) {
   test::SceneBuilder b = litRoom();
   test::addBox(b, "white", "box", {1.6, 1.7, 1.2}, {2.3, 2.2, 1.6});

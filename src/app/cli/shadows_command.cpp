@@ -28,9 +28,10 @@ nlohmann::json statsJson(const DmStats& s) {
             {"eee_light_edge_occluder_plane", s.surfacesOccluderPlane},
             {"ev_occluder_plane_occluder_edge", s.surfacesOccluderPlaneEdge},
             {"eee_light_edge_two_occluder_edges", s.surfacesEee},
-            {"eee_three_occluder_edges", nullptr},  // not built (see the engine's header)
+            {"eee_three_occluder_edges", s.surfacesEeeOccluder},
             {"total", s.surfacesEmitterVertex + s.surfacesEmitterEdge + s.surfacesNonEmitter +
-                          s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesEee}}},
+                          s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesEee +
+                          s.surfacesEeeOccluder}}},
           {"eee_polyline_segments", s.eeeSegments},
           {"eee_surfaces_truncated", s.eeeSurfacesTruncated},
           {"stored_intersections", s.storedIntersections},

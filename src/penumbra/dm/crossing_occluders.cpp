@@ -25,7 +25,7 @@ bool CrossingOccluders::addNamedPolygons(const std::vector<SurfaceId>& surfaces,
         id < SurfaceId(surfaces_.size() + eeeSurfaces_.size())) {
       const EeeSurface& s = eeeSurfaces_[id - SurfaceId(surfaces_.size())];
       if (s.id != id) return false;  // numbered otherwise than assumed: no shortcut
-      for (EdgeId e : {s.first, s.second}) {
+      for (EdgeId e : s.occluderEdges()) {
         const std::vector<PolygonId>& incident = adjacency_.edges()[e].polygons;
         out.insert(out.end(), incident.begin(), incident.end());
       }

@@ -144,21 +144,43 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   eeeSurfaces_.clear();
   const double chord = kEeeChordTolerance * scene.bounds.diagonalLength();
   std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
-  for (PolygonId light : options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{}) {
+  std::vector<PolygonId> crossed;
+  const auto traceFrom = [&](size_t first, std::map<PolygonId, std::vector<EeeCrossing>>* to) {
+    for (size_t k = first; k < eeeSurfaces_.size(); ++k) {
+      EeeSurface& s = eeeSurfaces_[k];
+      for (DiscontinuitySegment& segment :
+           traceEeeSurface(s, scene, *adjacency_, *grid_, chord, to ? &crossed : nullptr)) {
+        ++stats_.eeeSegments;
+        eeeOnReceiver[segment.receiver].push_back({segment.p0, segment.p1});
+        perReceiver[segment.receiver].push_back(std::move(segment));
+      }
+      stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
+      stats_.eeeSurfacesTruncated += s.truncated ? 1 : 0;
+      if (to)
+        for (PolygonId p : crossed) (*to)[s.light].push_back({s.first, s.second, p});
+    }
+  };
+  const std::vector<PolygonId> eeeLights =
+      options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
+  for (PolygonId light : eeeLights) {
     const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
     for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, firstId))
       eeeSurfaces_.push_back(std::move(s));
   }
-  for (EeeSurface& s : eeeSurfaces_) {
-    for (DiscontinuitySegment& segment : traceEeeSurface(s, scene, *adjacency_, *grid_, chord)) {
-      ++stats_.eeeSegments;
-      eeeOnReceiver[segment.receiver].push_back({segment.p0, segment.p1});
-      perReceiver[segment.receiver].push_back(std::move(segment));
-    }
-    stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
-    stats_.eeeSurfacesTruncated += s.truncated ? 1 : 0;
-  }
+  // The polygons the light-edge surfaces' lines cross hold the third edges of the
+  // three-occluder-edge surfaces whose lines leave the light through its edges.
+  std::map<PolygonId, std::vector<EeeCrossing>> crossings;
+  traceFrom(0, &crossings);
   stats_.surfacesEee = int(eeeSurfaces_.size());
+  const size_t lightEdgeSurfaces = eeeSurfaces_.size();
+  for (PolygonId light : options_.occluderEeeSurfaces ? eeeLights : std::vector<PolygonId>{}) {
+    const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
+    for (EeeSurface& s : enumerateOccluderEeeSurfaces(scene, *adjacency_, surfaces_,
+                                                      crossings[light], light, firstId))
+      eeeSurfaces_.push_back(std::move(s));
+  }
+  stats_.surfacesEeeOccluder = int(eeeSurfaces_.size() - lightEdgeSurfaces);
+  traceFrom(lightEdgeSurfaces, nullptr);
   stats_.secondsEee = secondsSince(start);
 
   start = Clock::now();

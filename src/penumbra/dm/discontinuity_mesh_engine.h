@@ -8,10 +8,9 @@
 //
 // Events built: EV with a light vertex or edge, non-emitter EV (occluder vertex × occluder edge),
 // the degenerate EEE of an occluder polygon whose plane cuts the light, EEE with a light edge and
-// two occluder edges (polylines within kEeeChordTolerance), the light plane's line and the horizon
-// events on receivers. Not built yet: EEE of three occluder edges (where three occluders'
-// projections meet inside the light). Face verification (DmOptions::verifyFaces) finds the faces
-// that a missing event crosses; they answer at the point.
+// two occluder edges and EEE of three occluder edges (polylines within kEeeChordTolerance), the
+// light plane's line and the horizon events on receivers. Face verification
+// (DmOptions::verifyFaces) finds the faces that a missing event crosses; they answer at the point.
 
 #include <map>
 #include <memory>
@@ -37,6 +36,7 @@ struct DmStats {
   int surfacesOccluderPlane = 0;      // light edge × an occluder polygon's plane (degenerate EEE)
   int surfacesOccluderPlaneEdge = 0;  // occluder edge × an occluder polygon's plane
   int surfacesEee = 0;                // light edge × two occluder edges (traced as polylines)
+  int surfacesEeeOccluder = 0;        // three occluder edges (traced as polylines)
   long long eeeSegments = 0;
   int eeeSurfacesTruncated = 0;  // tracing ended at its line budget (degenerate conics)
   double secondsEee = 0;
@@ -59,10 +59,14 @@ struct DmStats {
 };
 
 struct DmOptions {
-  // EEE surfaces (light edge × two occluder edges). Needed for a complete mesh where the shadows
-  // of several occluders overlap. Off: faces may span an EEE event (face verification then
-  // catches them and answers at the point).
+  // EEE surfaces (light edge × two occluder edges, and three occluder edges). Needed for a
+  // complete mesh where the shadows of several occluders overlap. Off: faces may span an EEE event
+  // (face verification then catches them and answers at the point).
   bool eeeSurfaces = true;
+  // With eeeSurfaces, also the EEE surfaces of three occluder edges (where the crossing of two
+  // occluders' projected edges passes over a third's inside the light). Off only to measure what
+  // they add (tests, benchmarks).
+  bool occluderEeeSurfaces = true;
   // Check every face's labels just inside its corners against those at its sample point. A face
   // where they differ is crossed by an event the mesh lacks (a missing event is a defect of the
   // mesh, counted in DmStats::unresolvedFaces); queries there compute the backprojection at the

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <unordered_set>
 
@@ -44,34 +45,43 @@ std::optional<CriticalLine> criticalLine(const Edge3& light, const Edge3& e1, co
   return CriticalLine{l, d, std::max(1.0, s)};
 }
 
-// The t-ranges of the light edge where critical lines exist. Existence only changes where a line
-// passes through an endpoint of e1 or e2 (the plane through that endpoint and the other edge
-// crosses the light edge there), so it is decided at the middle of each range between them.
-std::vector<std::array<double, 2>> validRanges(const Edge3& light, const Edge3& e1,
-                                               const Edge3& e2) {
-  std::vector<double> breaks{0, 1};
-  const auto add = [&](const Vec3& v, const Edge3& other) {
-    const Vec3 m = cross(other.b - other.a, v - other.a);
-    const double denominator = dot(m, light.b - light.a);
-    if (denominator == 0) return;
-    const double t = dot(m, other.a - light.a) / denominator;
-    if (t > 0 && t < 1) breaks.push_back(t);
-  };
-  add(e1.a, e2);
-  add(e1.b, e2);
-  add(e2.a, e1);
-  add(e2.b, e1);
+// Where the plane through v and edge `other` crosses segment `along`, strictly inside it: a line
+// meeting `along` and `other` passes through v there.
+std::optional<double> throughPoint(const Edge3& along, const Vec3& v, const Edge3& other) {
+  const Vec3 m = cross(other.b - other.a, v - other.a);
+  const double denominator = dot(m, along.b - along.a);
+  if (denominator == 0) return std::nullopt;
+  const double t = dot(m, other.a - along.a) / denominator;
+  if (t > 0 && t < 1) return t;
+  return std::nullopt;
+}
+
+// The sorted breaks, merged into ranges where `exists` holds at their middles.
+template <class Exists>
+std::vector<std::array<double, 2>> rangesBetween(std::vector<double> breaks, Exists&& exists) {
   std::sort(breaks.begin(), breaks.end());
   std::vector<std::array<double, 2>> ranges;
   for (size_t k = 0; k + 1 < breaks.size(); ++k) {
     if (breaks[k + 1] <= breaks[k]) continue;
-    if (!criticalLine(light, e1, e2, 0.5 * (breaks[k] + breaks[k + 1]))) continue;
+    if (!exists(0.5 * (breaks[k] + breaks[k + 1]))) continue;
     if (!ranges.empty() && ranges.back()[1] == breaks[k])
       ranges.back()[1] = breaks[k + 1];
     else
       ranges.push_back({breaks[k], breaks[k + 1]});
   }
   return ranges;
+}
+
+// The t-ranges of the light edge where critical lines exist. Existence only changes where a line
+// passes through an endpoint of e1 or e2 (the plane through that endpoint and the other edge
+// crosses the light edge there), so it is decided at the middle of each range between them.
+std::vector<std::array<double, 2>> validRanges(const Edge3& light, const Edge3& e1,
+                                               const Edge3& e2) {
+  std::vector<double> breaks{0, 1};
+  for (const auto& [v, other] : {std::pair{e1.a, e2}, {e1.b, e2}, {e2.a, e1}, {e2.b, e1}})
+    if (const auto t = throughPoint(light, v, other)) breaks.push_back(*t);
+  return rangesBetween(std::move(breaks),
+                       [&](double t) { return criticalLine(light, e1, e2, t).has_value(); });
 }
 
 // Where the line x(u) = source + u·direction crosses polygon q, if it does (u of the crossing).
@@ -93,8 +103,163 @@ std::optional<double> crossing(const WorldPolygon& q, const Vec3& source, const 
   return u;
 }
 
+// The line through e1(t) meeting the lines of e2 and e3 within both segments: it passes e1 at
+// p (u = 0), e3 at p + direction (u = 1), e2 at u = atSecond.
+struct ThreeEdgeLine {
+  Vec3 p, direction;
+  double atSecond = 0;
+};
+
+std::optional<ThreeEdgeLine> lineThroughThree(const Edge3& e1, const Edge3& e2, const Edge3& e3,
+                                              double t) {
+  const Vec3 p = e1.a + (e1.b - e1.a) * t;
+  const Vec3 e = e2.b - e2.a;
+  const Vec3 m = cross(e, p - e2.a);  // plane through p and e2
+  const double denominator = dot(m, e3.b - e3.a);
+  if (denominator == 0) return std::nullopt;
+  const double w = dot(m, e2.a - e3.a) / denominator;
+  if (w < 0 || w > 1) return std::nullopt;
+  const Vec3 d = e3.a + (e3.b - e3.a) * w - p;
+  const double cross2 = dot(m, cross(d, e));
+  if (cross2 == 0) return std::nullopt;
+  const double u = dot(m, cross(e2.a - p, e)) / cross2;
+  const double r = dot(m, cross(e2.a - p, d)) / cross2;
+  if (r < 0 || r > 1) return std::nullopt;
+  return ThreeEdgeLine{p, d, u};
+}
+
+// The critical line of three occluder edges through e1(t), from the point where it leaves the
+// light's interior (its front side) through the three contacts.
+std::optional<CriticalLine> occluderCriticalLine(const WorldPolygon& light, const Edge3& e1,
+                                                 const Edge3& e2, const Edge3& e3, double t) {
+  const auto line = lineThroughThree(e1, e2, e3, t);
+  if (!line) return std::nullopt;
+  if (light.plane.signedDistance(line->p) <= 0) return std::nullopt;
+  const auto k = crossing(light, line->p, line->direction);
+  if (!k || *k == 0) return std::nullopt;
+  // From the light point L = p + k·direction towards p: x = L + s (p − L), s = 1 − u / k, and
+  // the contacts lie in front of the light where s > 0.
+  const Vec3 source = line->p + line->direction * *k;
+  const double atThird = 1 - 1 / *k, atSecond = 1 - line->atSecond / *k;
+  if (atThird <= 0 || atSecond <= 0) return std::nullopt;
+  return CriticalLine{source, line->p - source, std::max({1.0, atThird, atSecond})};
+}
+
+// Where f changes sign on [lo, hi]: sampled, then bisected (f is NaN where it is undefined). The
+// ends are sampled just inside: lo and hi are breaks where the lines pass through an endpoint, and
+// rounding may reject the line there.
+template <class F>
+void addSignChanges(double lo, double hi, F&& f, std::vector<double>& out) {
+  constexpr int kSamples = 32;
+  const double inset = 1e-9 * (hi - lo);
+  const auto sampleAt = [&](int j) {
+    return j == 0 ? lo + inset : j == kSamples ? hi - inset : lo + (hi - lo) * j / kSamples;
+  };
+  double previousT = sampleAt(0), previous = f(previousT);
+  for (int j = 1; j <= kSamples; ++j) {
+    const double tj = sampleAt(j), value = f(tj);
+    if ((previous < 0 && value > 0) || (previous > 0 && value < 0)) {
+      double a = previousT, b = tj;
+      const bool aNegative = previous < 0;
+      for (int step = 0; step < 60; ++step) {
+        const double mid = 0.5 * (a + b), fm = f(mid);
+        if (std::isnan(fm) || fm == 0) {
+          a = b = mid;
+          break;
+        }
+        ((fm < 0) == aNegative ? a : b) = mid;
+      }
+      out.push_back(0.5 * (a + b));
+    }
+    previousT = tj;
+    previous = value;
+  }
+}
+
+// The t-ranges of e1 where critical lines of three occluder edges exist and meet the light. The
+// lines meet the three segments between the breaks where one passes through an endpoint. Within
+// such a stretch the point where a line pierces the light's plane moves continuously but where the
+// line turns parallel to that plane (it jumps from one far side to the other), and it enters or
+// leaves the light where it crosses the line of a light edge: both found by sampled sign changes,
+// bisected.
+std::vector<std::array<double, 2>> occluderValidRanges(const WorldPolygon& light, const Edge3& e1,
+                                                       const Edge3& e2, const Edge3& e3) {
+  std::vector<double> breaks{0, 1};
+  for (const auto& [v, other] : {std::pair{e2.a, e3}, {e2.b, e3}, {e3.a, e2}, {e3.b, e2}})
+    if (const auto t = throughPoint(e1, v, other)) breaks.push_back(*t);
+  std::sort(breaks.begin(), breaks.end());
+  const Polygon3& lv = light.vertices;
+  const Vec3& n = light.plane.normal;
+  constexpr double kUndefined = std::numeric_limits<double>::quiet_NaN();
+  const auto along = [&](double t) {  // n · direction: zero where the line is parallel
+    const auto line = lineThroughThree(e1, e2, e3, t);
+    return line ? dot(n, line->direction) : kUndefined;
+  };
+  std::vector<double> all = breaks;
+  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
+    const double t0 = breaks[k], t1 = breaks[k + 1];
+    if (t1 <= t0 || !lineThroughThree(e1, e2, e3, 0.5 * (t0 + t1))) continue;
+    std::vector<double> pieces{t0, t1};
+    addSignChanges(t0, t1, along, pieces);
+    std::sort(pieces.begin(), pieces.end());
+    all.insert(all.end(), pieces.begin(), pieces.end());
+    for (size_t q = 0; q + 1 < pieces.size(); ++q)
+      for (size_t i = 0; i < lv.size(); ++i) {
+        const Vec3 &a = lv[i], &b = lv[(i + 1) % lv.size()];
+        // Which side of the light edge's line the piercing point lies on.
+        const auto side = [&](double t) {
+          const auto line = lineThroughThree(e1, e2, e3, t);
+          if (!line) return kUndefined;
+          const double d = dot(n, line->direction);
+          if (d == 0) return kUndefined;
+          const Vec3 x = line->p - line->direction * (light.plane.signedDistance(line->p) / d);
+          return dot(cross(b - a, x - a), n);
+        };
+        addSignChanges(pieces[q], pieces[q + 1], side, all);
+      }
+  }
+  return rangesBetween(std::move(all), [&](double t) {
+    return occluderCriticalLine(light, e1, e2, e3, t).has_value();
+  });
+}
+
+// The critical lines of a surface by one parameter t in [0, 1]: along the light edge
+// (kLightEdge) or along the first occluder edge (kOccluderEdges).
+class LineFamily {
+ public:
+  LineFamily(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency)
+      : kind_(surface.kind), light_(scene.polygons[surface.light]) {
+    const auto edgeOf = [&](EdgeId id) {
+      const SceneEdge& e = adjacency.edges()[id];
+      return Edge3{adjacency.position(e.a), adjacency.position(e.b)};
+    };
+    e1_ = edgeOf(surface.first);
+    e2_ = edgeOf(surface.second);
+    if (kind_ == EeeKind::kOccluderEdges) {
+      e3_ = edgeOf(surface.third);
+    } else {
+      const Polygon3& lv = light_.vertices;
+      lightEdge_ = {lv[surface.lightEdge], lv[(surface.lightEdge + 1) % lv.size()]};
+    }
+  }
+
+  std::optional<CriticalLine> at(double t) const {
+    return kind_ == EeeKind::kLightEdge ? criticalLine(lightEdge_, e1_, e2_, t)
+                                        : occluderCriticalLine(light_, e1_, e2_, e3_, t);
+  }
+  std::vector<std::array<double, 2>> ranges() const {
+    return kind_ == EeeKind::kLightEdge ? validRanges(lightEdge_, e1_, e2_)
+                                        : occluderValidRanges(light_, e1_, e2_, e3_);
+  }
+
+ private:
+  EeeKind kind_;
+  const WorldPolygon& light_;
+  Edge3 lightEdge_, e1_, e2_, e3_;
+};
+
 struct LineHit {
-  bool valid = false;    // the line meets the light edge and both occluder edges
+  bool valid = false;    // the line meets the light and every occluder edge
   bool visible = false;  // nothing blocks it before its far contact, and it reaches a polygon
   PolygonId receiver = -1;
   Vec3 point;
@@ -123,23 +288,31 @@ struct PolygonMarks {
 class Tracer {
  public:
   Tracer(EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
-         const UniformGrid& grid, double chordTolerance)
+         const UniformGrid& grid, double chordTolerance, std::vector<PolygonId>* crossed)
       : surface_(surface),
         scene_(scene),
         adjacency_(adjacency),
         grid_(grid),
-        tolerance_(chordTolerance) {
-    const Polygon3& lv = scene.polygons[surface.light].vertices;
-    light_ = {lv[surface.lightEdge], lv[(surface.lightEdge + 1) % lv.size()]};
-    e1_ = edgeOf(surface.first);
-    e2_ = edgeOf(surface.second);
-    for (EdgeId e : {surface.first, surface.second})
+        tolerance_(chordTolerance),
+        family_(surface, scene, adjacency),
+        edges_(surface.occluderEdges()),
+        crossed_(surface.kind == EeeKind::kLightEdge ? crossed : nullptr) {
+    for (EdgeId e : edges_)
       for (PolygonId p : adjacency.edges()[e].polygons) contactPolygons_.push_back(p);
   }
 
   std::vector<DiscontinuitySegment> trace() {
     constexpr int kSamples = 12;
-    for (const auto& [ta, tb] : validRanges(light_, e1_, e2_)) {
+    for (auto [ta, tb] : family_.ranges()) {
+      // A three-occluder-edge range often ends where its lines leave the light, and the line
+      // there grazes the light's boundary, which containment may reject: a visible stretch
+      // ending at the light's edge would then be bracketed by two invisible samples and lost.
+      // Its ends are sampled just inside.
+      if (surface_.kind == EeeKind::kOccluderEdges) {
+        const double inset = 1e-9 * (tb - ta);
+        ta += inset;
+        tb -= inset;
+      }
       std::vector<LineHit> hits;
       std::vector<double> ts;
       for (int i = 0; i <= kSamples; ++i) {
@@ -151,6 +324,10 @@ class Tracer {
     std::sort(cells_.begin(), cells_.end());
     cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
     surface_.cells = cells_;
+    if (crossed_) {
+      std::sort(crossed_->begin(), crossed_->end());
+      crossed_->erase(std::unique(crossed_->begin(), crossed_->end()), crossed_->end());
+    }
     // A surface that ran out of lines is a degenerate conic whose visibility flickers by rounding:
     // its isolated pieces of rounding-noise length would put thousands of tiny edges at one point
     // (they made a 1k-polygon room's meshing take minutes).
@@ -162,10 +339,6 @@ class Tracer {
   }
 
  private:
-  Edge3 edgeOf(EdgeId id) const {
-    const SceneEdge& e = adjacency_.edges()[id];
-    return {adjacency_.position(e.a), adjacency_.position(e.b)};
-  }
   bool isContact(PolygonId id) const {
     return std::find(contactPolygons_.begin(), contactPolygons_.end(), id) !=
            contactPolygons_.end();
@@ -188,13 +361,12 @@ class Tracer {
 
   LineHit hit(double t) {
     LineHit result;
-    const auto line = criticalLine(light_, e1_, e2_, t);
+    const auto line = family_.at(t);
     if (!line) return result;
     result.valid = true;
-    // Both occluder edges must be silhouettes seen along the line.
-    if (!adjacency_.isSilhouetteFrom(surface_.first, line->source) ||
-        !adjacency_.isSilhouetteFrom(surface_.second, line->source))
-      return result;
+    // Every occluder edge must be a silhouette seen along the line.
+    for (EdgeId e : edges_)
+      if (!adjacency_.isSilhouetteFrom(e, line->source)) return result;
     const double reach = 2 * scene_.bounds.diagonalLength() / length(line->direction);
     const Vec3 end = line->source + line->direction * (line->farContact + reach);
     // Cells in order from the light: stop once the nearest receiver found lies before the next
@@ -215,6 +387,7 @@ class Tracer {
         if (id == surface_.light || isContact(id)) continue;
         const auto u = crossing(scene_.polygons[id], line->source, line->direction);
         if (!u || *u <= 0) continue;
+        if (crossed_) crossed_->push_back(id);
         if (*u < line->farContact * (1 - 1e-9)) return result;  // blocked before the event
         if (*u > line->farContact * (1 + 1e-9) && *u < nearest) {
           nearest = *u;
@@ -283,7 +456,9 @@ class Tracer {
   const EdgeAdjacency& adjacency_;
   const UniformGrid& grid_;
   double tolerance_;
-  Edge3 light_, e1_, e2_;
+  LineFamily family_;
+  std::vector<EdgeId> edges_;
+  std::vector<PolygonId>* crossed_;  // polygons the lines cross in front of the light
   std::vector<PolygonId> contactPolygons_;
   std::vector<DiscontinuitySegment> segments_;
   std::vector<int> cells_;  // every cell a traced line crossed (sorted at the end)
@@ -343,7 +518,13 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
         orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
       return;
     if (validRanges(lightEdge, first, second).empty()) return;
-    surfaces.push_back({firstId + SurfaceId(surfaces.size()), light, l, i, j, {}});
+    EeeSurface surface;
+    surface.id = firstId + SurfaceId(surfaces.size());
+    surface.light = light;
+    surface.lightEdge = l;
+    surface.first = i;
+    surface.second = j;
+    surfaces.push_back(std::move(surface));
   };
   // Every range of critical lines ends on a line through a light vertex or an occluder edge's
   // endpoint (validRanges), and such a line lies in the emitter EV fan of that vertex, where the
@@ -376,11 +557,89 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
   return surfaces;
 }
 
+std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency,
+    const std::vector<DiscontinuitySurface>& evSurfaces, const std::vector<EeeCrossing>& crossings,
+    PolygonId light, SurfaceId firstId) {
+  std::vector<EeeSurface> surfaces;
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const auto& edges = adjacency.edges();
+  const auto inFront = [&](const SceneEdge& e) {
+    return lightPolygon.plane.signedDistance(adjacency.position(e.a)) > 0 ||
+           lightPolygon.plane.signedDistance(adjacency.position(e.b)) > 0;
+  };
+  const auto usable = [&](EdgeId id) {
+    const SceneEdge& e = edges[id];
+    return e.canBeSilhouette && !touchesLight(e.polygons, light) && inFront(e);
+  };
+  const auto coplanar = [&](const SceneEdge& a, const SceneEdge& b) {
+    return orientation3d(adjacency.position(a.a), adjacency.position(a.b), adjacency.position(b.a),
+                         adjacency.position(b.b)) == Sign::kZero;
+  };
+  struct TripleHash {
+    size_t operator()(const std::array<EdgeId, 3>& e) const {
+      std::uint64_t h = 0;
+      for (EdgeId id : e) h = (h ^ std::uint64_t(std::uint32_t(id))) * 0x100000001b3ull;
+      return size_t(h ^ (h >> 29));
+    }
+  };
+  std::unordered_set<std::array<EdgeId, 3>, TripleHash> tried;
+  const auto consider = [&](EdgeId i, EdgeId j, EdgeId k) {
+    if (i < 0 || j < 0 || k < 0 || i == j || j == k || i == k) return;
+    std::array<EdgeId, 3> e{i, j, k};
+    std::sort(e.begin(), e.end());
+    if (!tried.insert(e).second) return;
+    for (EdgeId id : e)
+      if (!usable(id)) return;
+    const SceneEdge &a = edges[e[0]], &b = edges[e[1]], &c = edges[e[2]];
+    if (sharesVertex(a, b) || sharesVertex(b, c) || sharesVertex(a, c)) return;
+    // Two coplanar edges put every line meeting both in their plane (or through one point): the
+    // occluder-plane events, not a quadric.
+    if (coplanar(a, b) || coplanar(b, c) || coplanar(a, c)) return;
+    EeeSurface surface;
+    surface.id = firstId + SurfaceId(surfaces.size());
+    surface.light = light;
+    surface.kind = EeeKind::kOccluderEdges;
+    surface.first = e[0];
+    surface.second = e[1];
+    surface.third = e[2];
+    if (LineFamily(surface, scene, adjacency).ranges().empty()) return;
+    surfaces.push_back(std::move(surface));
+  };
+  const auto forEachEdgeOf = [&](PolygonId polygon, auto&& f) {
+    const std::vector<VertexId>& corners = adjacency.polygonVertices(polygon);
+    for (size_t k = 0; k < corners.size(); ++k)
+      f(adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]));
+  };
+  // Ranges ending on a line through an occluder vertex v: it lies in the non-emitter EV fan of v
+  // and one of the other edges, where the third edge's polygon cuts the fan.
+  for (const DiscontinuitySurface& s : evSurfaces) {
+    if (s.light != light || s.kind != SurfaceKind::kNonEmitterVertexEdge) continue;
+    const std::vector<EdgeId>& atVertex = adjacency.vertices()[s.occluderFeature].edges;
+    for (const SurfaceIntersection& cut : s.intersections)
+      forEachEdgeOf(cut.polygon, [&](EdgeId k) {
+        for (EdgeId i : atVertex) consider(i, EdgeId(s.secondFeature), k);
+      });
+  }
+  // Ranges ending on a line through a light edge: that line belongs to a light-edge surface,
+  // whose lines on one side of it cross the third edge's polygon.
+  for (const EeeCrossing& c : crossings)
+    forEachEdgeOf(c.polygon, [&](EdgeId k) { consider(c.first, c.second, k); });
+  return surfaces;
+}
+
+std::vector<EdgeId> EeeSurface::occluderEdges() const {
+  if (kind == EeeKind::kOccluderEdges) return {first, second, third};
+  return {first, second};
+}
+
 std::vector<DiscontinuitySegment> traceEeeSurface(EeeSurface& surface, const PosedScene& scene,
                                                   const EdgeAdjacency& adjacency,
-                                                  const UniformGrid& grid, double chordTolerance) {
+                                                  const UniformGrid& grid, double chordTolerance,
+                                                  std::vector<PolygonId>* crossed) {
   surface.cells.clear();
-  return Tracer(surface, scene, adjacency, grid, chordTolerance).trace();
+  if (crossed) crossed->clear();
+  return Tracer(surface, scene, adjacency, grid, chordTolerance, crossed).trace();
 }
 
 }  // namespace penumbra

@@ -1,12 +1,16 @@
 #pragma once
-// EEE discontinuity surfaces with an edge on the light (Drettakis & Fiume 1994; Teller 1992): the
-// lines meeting a light edge and two occluder edges e1, e2 form a ruled quadric; where such lines
-// reach a receiver, the crossing of e1's and e2's projections passes over the light edge, and the
-// backprojection gains or loses that crossing vertex. The surface meets a receiver in a conic
-// arc, traced here as a polyline: lines are sampled along the light edge, each checked for
-// blockers between the light and its farther contact and followed to the first polygon beyond,
-// and the sampling is refined until every chord lies within `chordTolerance` of the sampled
-// curve and every change of receiver or visibility is bracketed to that tolerance.
+// EEE discontinuity surfaces (Drettakis & Fiume 1994; Teller 1992): the lines meeting three edges
+// in general position form a ruled quadric, which meets a receiver in a conic arc.
+//   - light edge × two occluder edges e1, e2: where such lines reach a receiver, the crossing of
+//     e1's and e2's projections passes over the light edge, and the backprojection gains or loses
+//     that crossing vertex;
+//   - three occluder edges e1, e2, e3 (only the lines that also meet the light): the crossing of
+//     two projected occluder edges passes over the third's projection inside the light, and one
+//     crossing vertex of the backprojection is traded for two (or the reverse).
+// The arc is traced as a polyline: lines are sampled along the light edge (or along e1), each
+// checked for blockers between the light and its farthest contact and followed to the first
+// polygon beyond, and the sampling is refined until every chord lies within `chordTolerance` of
+// the sampled curve and every change of receiver or visibility is bracketed to that tolerance.
 //
 // The polyline stands a bounded distance from the true conic; the engine keeps irradiance exact
 // by recomputing the backprojection at points within that distance (see DiscontinuityMeshEngine).
@@ -19,13 +23,23 @@
 
 namespace penumbra {
 
+enum class EeeKind {
+  kLightEdge,      // light edge × two occluder edges
+  kOccluderEdges,  // three occluder edges, lines meeting the light
+};
+
 struct EeeSurface {
   SurfaceId id = 0;
   PolygonId light = 0;
-  int lightEdge = 0;             // light edge lightEdge → lightEdge + 1
-  EdgeId first = 0, second = 0;  // occluder edges (EdgeAdjacency)
-  std::vector<int> cells;        // grid cells the traced lines cross (sorted)
-  bool truncated = false;        // tracing stopped at its line budget (a degenerate conic)
+  EeeKind kind = EeeKind::kLightEdge;
+  int lightEdge = -1;  // kLightEdge: light edge lightEdge → lightEdge + 1
+  EdgeId first = 0, second = 0,
+         third = -1;       // occluder edges (EdgeAdjacency); third: kOccluderEdges
+  std::vector<int> cells;  // grid cells the traced lines cross (sorted)
+  bool truncated = false;  // tracing stopped at its line budget (a degenerate conic)
+
+  // The occluder edges of the surface (two or three).
+  std::vector<EdgeId> occluderEdges() const;
 };
 
 // Surfaces for every light edge and pair of silhouette-capable occluder edges (not sharing a
@@ -37,10 +51,28 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,
                                              PolygonId light, SurfaceId firstId);
 
+// Surfaces for every triple of silhouette-capable occluder edges (pairwise sharing no vertex, no
+// two coplanar) that some line meeting all three and the light's interior crosses in front of the
+// light. Every range of such lines ends on a line through an endpoint of one of the edges, which
+// lies in a non-emitter EV fan of `evSurfaces` where the third edge's polygon cuts it, or on a
+// line through a light edge, which lies in a light-edge EEE surface whose lines on one side of it
+// cross the third edge's polygon: `crossings` holds those (the surface's two occluder edges, a
+// polygon its traced lines cross; traceEeeSurface).
+struct EeeCrossing {
+  EdgeId first = 0, second = 0;
+  PolygonId polygon = 0;
+};
+std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency,
+    const std::vector<DiscontinuitySurface>& evSurfaces, const std::vector<EeeCrossing>& crossings,
+    PolygonId light, SurfaceId firstId);
+
 // The visible pieces of `surface` on receivers, as polylines split into segments (and fills
-// surface.cells).
+// surface.cells). With `crossed`, a light-edge surface sets it to the polygons its traced lines
+// cross in front of the light, up to their first blocker (for enumerateOccluderEeeSurfaces).
 std::vector<DiscontinuitySegment> traceEeeSurface(EeeSurface& surface, const PosedScene& scene,
                                                   const EdgeAdjacency& adjacency,
-                                                  const UniformGrid& grid, double chordTolerance);
+                                                  const UniformGrid& grid, double chordTolerance,
+                                                  std::vector<PolygonId>* crossed = nullptr);
 
 }  // namespace penumbra

@@ -3,7 +3,7 @@
 // occluder edge, and light edge × occluder vertex, keeping only occluder features that can be
 // silhouettes from the light feature (exact predicates, conservative) and lie in front of the
 // light; and non-emitter EV (occluder vertex × occluder edge) restricted to the critical lines that
-// meet the light. EEE surfaces are not enumerated yet.
+// meet the light. EEE surfaces are enumerated in eee_surfaces.h.
 
 #include <vector>
 

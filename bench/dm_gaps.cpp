@@ -1,0 +1,235 @@
+// Where the discontinuity mesh is incomplete: for every face that face verification left
+// unresolved (its labels just inside a corner differ from those at its sample), the labels that
+// differ, and whether they matter there (the sample's labels evaluated at that corner point
+// against the exact reference). A face whose differing labels give the reference's value is a
+// false alarm (two names for one geometric feature, e.g. collinear edges of different polygons);
+// the others are crossed by an event the mesh lacks, and the labels say which kind.
+//
+// Usage: dm_gaps SCENE.json [--faces N] [--edge K]...   (prints scene edges K, the first N
+// unresolved faces in full, default 20, then counts by kind of difference)
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/uniform_grid.h"
+
+using namespace penumbra;
+
+namespace {
+
+using Label = std::array<int, 4>;  // kind, light feature, scene edge or vertex ids
+
+const char* kindName(int kind) {
+  switch (BackprojectionVertexKind(kind)) {
+    case BackprojectionVertexKind::kLightVertex:
+      return "light-vertex";
+    case BackprojectionVertexKind::kLightEdgeHorizon:
+      return "light-edge×horizon";
+    case BackprojectionVertexKind::kLightEdgeOccluderEdge:
+      return "light-edge×edge";
+    case BackprojectionVertexKind::kOccluderVertex:
+      return "vertex";
+    case BackprojectionVertexKind::kOccluderEdgeOccluderEdge:
+      return "edge×edge";
+    case BackprojectionVertexKind::kOccluderEdgeHorizon:
+      return "edge×horizon";
+  }
+  return "?";
+}
+
+std::vector<Label> labelSet(const Backprojection& bp, const EdgeAdjacency& adjacency) {
+  const auto vertexOf = [&](const FeatureRef& f) {
+    return adjacency.polygonVertices(f.polygon)[f.corner];
+  };
+  const auto edgeOf = [&](const FeatureRef& f) {
+    const std::vector<VertexId>& corners = adjacency.polygonVertices(f.polygon);
+    return adjacency.edgeBetween(corners[f.corner], corners[(f.corner + 1) % corners.size()]);
+  };
+  std::vector<Label> labels;
+  for (const auto& cycle : bp.cycles)
+    for (const BackprojectionVertex& v : cycle) {
+      Label label{int(v.kind), v.lightFeature, -1, -1};
+      if (v.kind == BackprojectionVertexKind::kOccluderVertex) label[2] = vertexOf(v.first);
+      if (v.kind == BackprojectionVertexKind::kOccluderEdgeOccluderEdge) {
+        label[2] = edgeOf(v.first);
+        label[3] = edgeOf(v.second);
+        if (label[3] < label[2]) std::swap(label[2], label[3]);
+      }
+      if (v.kind == BackprojectionVertexKind::kLightEdgeOccluderEdge ||
+          v.kind == BackprojectionVertexKind::kOccluderEdgeHorizon)
+        label[2] = edgeOf(v.first);
+      labels.push_back(label);
+    }
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  return labels;
+}
+
+std::string describe(const std::vector<Label>& labels) {
+  std::string out;
+  char buffer[96];
+  for (const Label& l : labels) {
+    const bool onLight = l[0] == int(BackprojectionVertexKind::kLightVertex) ||
+                         l[0] == int(BackprojectionVertexKind::kLightEdgeOccluderEdge) ||
+                         l[0] == int(BackprojectionVertexKind::kLightEdgeHorizon);
+    std::snprintf(buffer, sizeof buffer, " %s", kindName(l[0]));
+    out.append(buffer);
+    if (onLight) {
+      std::snprintf(buffer, sizeof buffer, "(L%d)", l[1]);
+      out.append(buffer);
+    }
+    if (l[3] >= 0)
+      std::snprintf(buffer, sizeof buffer, "[%d,%d]", l[2], l[3]);
+    else if (l[2] >= 0)
+      std::snprintf(buffer, sizeof buffer, "[%d]", l[2]);
+    else
+      buffer[0] = 0;
+    out.append(buffer);
+  }
+  return out;
+}
+
+// The kinds of the labels that differ, as one key ("+edge×edge -light-edge×edge", sorted).
+std::string differenceKey(const std::vector<Label>& onlySample,
+                          const std::vector<Label>& onlyHere) {
+  std::vector<std::string> parts;
+  for (const Label& l : onlySample) parts.push_back(std::string(1, '-').append(kindName(l[0])));
+  for (const Label& l : onlyHere) parts.push_back(std::string(1, '+').append(kindName(l[0])));
+  std::sort(parts.begin(), parts.end());
+  std::string key;
+  for (const std::string& p : parts) {
+    if (!key.empty()) key.push_back(' ');
+    key.append(p);
+  }
+  return key;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: dm_gaps SCENE.json [--faces N]\n");
+    return 1;
+  }
+  int listed = 20;
+  std::vector<int> edgesToShow;
+  for (int i = 2; i + 1 < argc; ++i) {
+    if (!std::strcmp(argv[i], "--faces")) listed = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--edge")) edgesToShow.push_back(std::atoi(argv[i + 1]));
+  }
+  const Scene scene = loadScene(argv[1]);
+  DiscontinuityMeshEngine engine;
+  engine.build(scene, 0);
+  const PosedScene& posed = engine.posedScene();
+  const UniformGrid grid(posed);
+  const ExactReference reference(posed, &grid);
+  const BackprojectionBuilder builder(posed, grid, reference);
+  const EdgeAdjacency& adjacency = engine.adjacency();
+
+  for (int e : edgesToShow) {
+    const SceneEdge& edge = adjacency.edges()[e];
+    const Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
+    std::printf("edge %d: (%.6f %.6f %.6f) - (%.6f %.6f %.6f), silhouette-capable %d, polygons", e,
+                a.x, a.y, a.z, b.x, b.y, b.z, int(edge.canBeSilhouette));
+    for (PolygonId p : edge.polygons) std::printf(" %d", p);
+    std::printf("\n");
+  }
+  std::map<std::string, int> realByKind, aliasByKind;
+  int unresolved = 0, real = 0, alias = 0, shown = 0;
+  for (const WorldPolygon& receiver : posed.polygons) {
+    const ReceiverMesh* mesh = engine.meshOf(receiver.id);
+    if (!mesh) continue;
+    const Vec3& n = receiver.plane.normal;
+    for (const MeshFace& face : mesh->faces()) {
+      if (!engine.isUnresolved(receiver.id, face.index)) continue;
+      ++unresolved;
+      const std::vector<Backprojection>& perLight =
+          engine.faceBackprojections(receiver.id, face.index);
+      bool found = false;
+      for (const Polygon3& cycle : mesh->faceBoundary(face.index)) {
+        for (const Vec3& corner : cycle) {
+          const Vec3 p =
+              corner + (face.samplePoint - corner) * DiscontinuityMeshEngine::kCornerInset;
+          if (mesh->locate(p) != face.index) continue;
+          for (size_t l = 0; l < posed.lights.size() && !found; ++l) {
+            const Backprojection& atSample = perLight[l];
+            if (!atSample.isLabelled) continue;
+            const Backprojection here = builder.compute(posed.lights[l], p, n, receiver.id);
+            if (!here.isLabelled) continue;
+            const std::vector<Label> a = labelSet(atSample, adjacency),
+                                     b = labelSet(here, adjacency);
+            if (a == b) continue;
+            found = true;
+            std::vector<Label> onlySample, onlyHere;
+            std::set_difference(a.begin(), a.end(), b.begin(), b.end(),
+                                std::back_inserter(onlySample));
+            std::set_difference(b.begin(), b.end(), a.begin(), a.end(),
+                                std::back_inserter(onlyHere));
+            // Does the sample's labelling still give the right light at the corner point?
+            const Rgb expected = reference.irradiance(p, n, receiver.id);
+            const Rgb got = builder.irradiance({atSample}, p, n, receiver.id);
+            const double scale = std::max(1e-11, expected.maxComponent());
+            const bool matters = std::abs(got.r - expected.r) / scale > 1e-9;
+            const std::string key = differenceKey(onlySample, onlyHere);
+            (matters ? realByKind : aliasByKind)[key]++;
+            (matters ? real : alias)++;
+            // Three edges only crossing one another: an EEE of three occluder edges. Was it
+            // enumerated (then its tracing missed the visible stretch)?
+            std::vector<int> crossed;
+            bool onlyCrossings = true;
+            for (const auto* side : {&onlySample, &onlyHere})
+              for (const Label& label : *side) {
+                onlyCrossings =
+                    onlyCrossings &&
+                    label[0] == int(BackprojectionVertexKind::kOccluderEdgeOccluderEdge);
+                crossed.push_back(label[2]);
+                crossed.push_back(label[3]);
+              }
+            std::sort(crossed.begin(), crossed.end());
+            crossed.erase(std::unique(crossed.begin(), crossed.end()), crossed.end());
+            const char* triple = "";
+            if (onlyCrossings && crossed.size() == 3) {
+              triple = " (three-edge EEE not enumerated)";
+              for (const EeeSurface& e : engine.eeeSurfaces()) {
+                std::vector<int> edges{e.first, e.second, e.third};
+                std::sort(edges.begin(), edges.end());
+                if (e.kind == EeeKind::kOccluderEdges && edges == crossed)
+                  triple = " (three-edge EEE enumerated)";
+              }
+            }
+            if (shown++ < listed)
+              std::printf(
+                  "receiver %d face %d at (%.6f %.6f %.6f) area %.3g %s: sample only%s; "
+                  "corner only%s; sample labels at the corner give %.9g, reference "
+                  "%.9g%s\n",
+                  receiver.id, face.index, p.x, p.y, p.z, face.area,
+                  matters ? "MISSING EVENT" : "alias", describe(onlySample).c_str(),
+                  describe(onlyHere).c_str(), got.r, expected.r, triple);
+          }
+          if (found) break;
+        }
+        if (found) break;
+      }
+    }
+  }
+  std::printf(
+      "\n%d unresolved faces: %d with a missing event (the sample's labels wrong at a "
+      "corner), %d false alarms (differing labels, same light)\n",
+      unresolved, real, alias);
+  std::printf(
+      "missing events by labels that differ (- at the sample only, + at the corner only):\n");
+  for (const auto& [key, count] : realByKind) std::printf("  %5d  %s\n", count, key.c_str());
+  std::printf("false alarms by labels that differ:\n");
+  for (const auto& [key, count] : aliasByKind) std::printf("  %5d  %s\n", count, key.c_str());
+  return 0;
+}
