@@ -55,7 +55,7 @@ std::vector<VertexSample> meshVertices(const DiscontinuityMeshEngine& engine) {
     const ReceiverMesh* mesh = engine.meshOf(polygon.id);
     if (!mesh) continue;
     for (const MeshFace& face : mesh->faces())
-      if (!engine.isUnresolved(polygon.id, face.index))
+      if (!engine.isAnsweredAtPoint(polygon.id, face.index))
         for (const Polygon3& cycle : mesh->faceBoundary(face.index))
           for (const Vec3& v : cycle) out.push_back({polygon.id, face.index, v});
   }
@@ -76,10 +76,12 @@ void runScene(const std::string& name, const std::string& path, bool monteCarlo)
       name.c_str(), scene.polygonCount(), total, s.secondsSurfaces, s.secondsCasting,
       s.secondsVisibility, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
       s.secondsVerification, s.surfacesEmitterVertex, s.surfacesEmitterEdge, s.surfacesNonEmitter,
-      s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge, s.surfacesEee + s.surfacesEeeOccluder,
-      s.storedIntersections, s.eeeSegments, s.visibleSegments, s.meshVertices, s.meshEdges,
-      s.meshFaces, s.unresolvedFaces, kib(s.gridBytes), kib(s.surfaceCellBytes),
-      kib(s.intersectionBytes), kib(s.meshBytes), kib(s.backprojectionBytes));
+      s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesOccluderPlaneVertex +
+          s.surfacesCoplanarEdges,
+      s.surfacesEee + s.surfacesEeeOccluder, s.storedIntersections, s.eeeSegments,
+      s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces, s.unresolvedFaces,
+      kib(s.gridBytes), kib(s.surfaceCellBytes), kib(s.intersectionBytes), kib(s.meshBytes),
+      kib(s.backprojectionBytes));
 
   // Backprojections from scratch at every face vs propagated from face to neighbouring face
   // (DmOptions::propagateBackprojections), side by side: the other way is built once more.

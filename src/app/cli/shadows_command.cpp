@@ -27,10 +27,13 @@ nlohmann::json statsJson(const DmStats& s) {
             {"ev_non_emitter", s.surfacesNonEmitter},
             {"eee_light_edge_occluder_plane", s.surfacesOccluderPlane},
             {"ev_occluder_plane_occluder_edge", s.surfacesOccluderPlaneEdge},
+            {"ev_occluder_plane_own_vertex", s.surfacesOccluderPlaneVertex},
+            {"eee_light_edge_coplanar_edges", s.surfacesCoplanarEdges},
             {"eee_light_edge_two_occluder_edges", s.surfacesEee},
             {"eee_three_occluder_edges", s.surfacesEeeOccluder},
             {"total", s.surfacesEmitterVertex + s.surfacesEmitterEdge + s.surfacesNonEmitter +
-                          s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesEee +
+                          s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge +
+                          s.surfacesOccluderPlaneVertex + s.surfacesCoplanarEdges + s.surfacesEee +
                           s.surfacesEeeOccluder}}},
           {"eee_polyline_segments", s.eeeSegments},
           {"eee_surfaces_truncated", s.eeeSurfacesTruncated},
@@ -43,7 +46,8 @@ nlohmann::json statsJson(const DmStats& s) {
            {{"vertices", s.meshVertices},
             {"edges", s.meshEdges},
             {"faces", s.meshFaces},
-            {"unresolved_faces", s.unresolvedFaces}}},
+            {"unresolved_faces", s.unresolvedFaces},
+            {"sliver_faces", s.sliverFaces}}},
           {"backprojection_vertices", s.backprojectionVertices},
           {"unlabelled_backprojections", s.unlabelledBackprojections},
           {"memory_bytes",

@@ -118,6 +118,11 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       case SurfaceKind::kOccluderPlaneOccluderEdge:
         ++stats_.surfacesOccluderPlaneEdge;
         break;
+      case SurfaceKind::kOccluderPlaneOccluderVertex:
+        ++stats_.surfacesOccluderPlaneVertex;
+        break;
+      case SurfaceKind::kLightEdgeCoplanarEdges:  // made after casting, counted there
+        break;
     }
   }
   stats_.secondsSurfaces = secondsSince(start);
@@ -162,11 +167,31 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   };
   const std::vector<PolygonId> eeeLights =
       options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
+  std::vector<DiscontinuitySurface> coplanar;
   for (PolygonId light : eeeLights) {
-    const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
-    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, firstId))
+    std::vector<CoplanarEdgePair> pairs;
+    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs))
       eeeSurfaces_.push_back(std::move(s));
+    for (DiscontinuitySurface& s : coplanarEdgeSurfaces(
+             scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + coplanar.size())))
+      coplanar.push_back(std::move(s));
   }
+  // The coplanar-edge fans are planar surfaces like the EV ones: cast, clipped by visibility,
+  // numbered after them; the EEE surfaces are numbered after all planar ones.
+  for (DiscontinuitySurface& s : coplanar) {
+    castSurface(s, scene, *grid_);
+    stats_.storedIntersections += (long long)s.intersections.size();
+    stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
+    stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
+    for (DiscontinuitySegment& segment : visibleSegments(s)) {
+      ++stats_.visibleSegments;
+      perReceiver[segment.receiver].push_back(std::move(segment));
+    }
+    surfaces_.push_back(std::move(s));
+  }
+  stats_.surfacesCoplanarEdges = int(coplanar.size());
+  for (size_t k = 0; k < eeeSurfaces_.size(); ++k)
+    eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the
   // three-occluder-edge surfaces whose lines leave the light through its edges.
   std::map<PolygonId, std::vector<EeeCrossing>> crossings;
@@ -269,8 +294,8 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
 
   const auto verify = [&](const MeshFace& face, FaceData& faceData, std::vector<int>& compared) {
     compared.assign(lights, 0);
-    // Faces of no area (where extended segments overshoot one another) hold no query and their
-    // labels are degenerate: not verified.
+    // Faces of no area (where extended segments overshoot one another) have degenerate labels
+    // and no corner to check them at: not verified, answered at the point (FaceData::sliver).
     if (!options_.verifyFaces || face.area <= sliver * sliver) return false;
     const auto verifying = Clock::now();
     faceData.unresolved =
@@ -282,6 +307,7 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
   const auto computeFace = [&](int f) {
     const MeshFace& face = faces[f];
     FaceData& faceData = data.faces[f];
+    faceData.sliver = face.area <= sliver * sliver;
     // Beside an EEE polyline the sample may lie across the true conic from the mesh's edge.
     const bool mayPropagate = propagate && face.area > sliver * sliver &&
                               !data.eeeSegments.near(face.samplePoint, nearEee());
@@ -374,6 +400,7 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
       }
     }
     stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
+    stats_.sliverFaces += faceData.sliver ? 1 : 0;
   }
 }
 
@@ -419,7 +446,7 @@ const ReceiverMesh* DiscontinuityMeshEngine::meshOf(PolygonId receiver) const {
 Rgb DiscontinuityMeshEngine::faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const {
   const ReceiverData& data = receivers_.at(receiver);
   const Vec3& n = posed_->polygons[receiver].plane.normal;
-  if (data.faces[face].unresolved) return atPoint(p, n, receiver);
+  if (data.faces[face].answersAtPoint()) return atPoint(p, n, receiver);
   return backprojections_->irradiance(data.faces[face].perLight, p, n, receiver);
 }
 
@@ -445,7 +472,7 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
   // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
   // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
   if (!face) return atPoint(p, n, match->polygon);
-  if (it->second.faces[*face].unresolved) return atPoint(p, n, match->polygon);
+  if (it->second.faces[*face].answersAtPoint()) return atPoint(p, n, match->polygon);
   // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
   // the backprojection is computed at the point itself there.
   if (it->second.eeeSegments.near(onPlane, nearEee())) return atPoint(p, n, match->polygon);

@@ -35,8 +35,10 @@ struct DmStats {
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
   int surfacesOccluderPlane = 0;      // light edge × an occluder polygon's plane (degenerate EEE)
   int surfacesOccluderPlaneEdge = 0;  // occluder edge × an occluder polygon's plane
-  int surfacesEee = 0;                // light edge × two occluder edges (traced as polylines)
-  int surfacesEeeOccluder = 0;        // three occluder edges (traced as polylines)
+  int surfacesOccluderPlaneVertex = 0;  // an occluder polygon's plane × its own vertex
+  int surfacesCoplanarEdges = 0;        // light edge × two coplanar occluder edges
+  int surfacesEee = 0;                  // light edge × two occluder edges (traced as polylines)
+  int surfacesEeeOccluder = 0;          // three occluder edges (traced as polylines)
   long long eeeSegments = 0;
   int eeeSurfacesTruncated = 0;  // tracing ended at its line budget (degenerate conics)
   double secondsEee = 0;
@@ -49,6 +51,7 @@ struct DmStats {
   long long backprojectionVertices = 0;  // summed over faces and lights
   long long unlabelledBackprojections = 0;
   long long unresolvedFaces = 0;  // faces whose labels differ at a corner (see DmOptions)
+  long long sliverFaces = 0;      // faces narrower than kSliverSize, answered at the point
   // Face-light backprojections computed from a neighbour's candidates and kept, and those that
   // verification sent back to a from-scratch computation (DmOptions::propagateBackprojections).
   long long propagatedBackprojections = 0, propagationFallbacks = 0;
@@ -113,9 +116,19 @@ class DiscontinuityMeshEngine {
   const EdgeAdjacency& adjacency() const { return *adjacency_; }
   // Irradiance at a face sample point of a receiver, for every face (for images and statistics).
   Rgb faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const;
-  // Did face verification find labels differing at one of the face's corners (DmOptions)?
+  // Did face verification find labels differing at one of the face's corners (DmOptions)? (A
+  // sliver is not unresolved, but is also answered at the point: isAnsweredAtPoint.)
   bool isUnresolved(PolygonId receiver, int face) const {
     return receivers_.at(receiver).faces[face].unresolved;
+  }
+  bool isAnsweredAtPoint(PolygonId receiver, int face) const {
+    return receivers_.at(receiver).faces[face].answersAtPoint();
+  }
+  // Does p lie within twice the EEE chord tolerance of an EEE polyline of `receiver` (where a
+  // face's labels may be those of the true conic's other side, and queries are answered at the
+  // point)?
+  bool isNearEeePolyline(PolygonId receiver, const Vec3& p) const {
+    return receivers_.at(receiver).eeeSegments.near(p, nearEee());
   }
   // The labelled backprojections of a face (one per light), from its sample point.
   const std::vector<Backprojection>& faceBackprojections(PolygonId receiver, int face) const {
@@ -128,6 +141,11 @@ class DiscontinuityMeshEngine {
     // The labels at the face's sample differ from those just inside one of its corners: an event
     // the mesh lacks crosses the face, and its irradiance is computed at each query point.
     bool unresolved = false;
+    // Narrower than kSliverSize: made by events a rounding apart, its sample's labels are not
+    // checked (no corner lies inside it at a usable distance) nor trusted; its irradiance is
+    // computed at each query point.
+    bool sliver = false;
+    bool answersAtPoint() const { return unresolved || sliver; }
   };
   struct ReceiverData {
     ReceiverMesh mesh;

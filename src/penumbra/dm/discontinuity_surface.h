@@ -36,6 +36,16 @@ enum class SurfaceKind {
   // the plane through the point X where another occluder's edge crosses it, meeting the light's
   // trace in the plane and passing through the polygon. A fan with the fixed hinge X.
   kOccluderPlaneOccluderEdge,
+  // The same plane's lines through one of the polygon's own vertices V, tangent to the polygon
+  // there, meeting the light's trace: seen from the plane, the polygon's projection is a segment
+  // ending at V's projection, and crossing the plane flips it over. A fan with the fixed hinge V.
+  kOccluderPlaneOccluderVertex,
+  // Degenerate EEE of a light edge and two coplanar occluder edges of different polygons: the
+  // lines meeting both lie in their plane, through the point T where it crosses the light edge;
+  // seen from that plane the two edges' projections line up, and which of them bounds the
+  // visible light switches. A fan with the fixed source T through the first edge, restricted to
+  // the lines that also meet the second (a contact).
+  kLightEdgeCoplanarEdges,
 };
 
 struct CriticalFan {

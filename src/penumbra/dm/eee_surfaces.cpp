@@ -481,7 +481,8 @@ bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,
-                                             PolygonId light, SurfaceId firstId) {
+                                             PolygonId light, SurfaceId firstId,
+                                             std::vector<CoplanarEdgePair>* coplanar) {
   std::vector<EeeSurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
@@ -508,9 +509,16 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     if (!usable(i) || !usable(j) || sharesVertex(e1, e2)) return;
     const Edge3 first{adjacency.position(e1.a), adjacency.position(e1.b)};
     const Edge3 second{adjacency.position(e2.a), adjacency.position(e2.b)};
-    // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event (or
-    // nothing), not a quadric.
-    if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) return;
+    // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event of
+    // a polygon holding both, or the coplanar-edge fan (or nothing), not a quadric.
+    if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) {
+      const bool samePolygon =
+          std::any_of(e1.polygons.begin(), e1.polygons.end(), [&](PolygonId p) {
+            return std::find(e2.polygons.begin(), e2.polygons.end(), p) != e2.polygons.end();
+          });
+      if (coplanar && !samePolygon) coplanar->push_back({l, i, j});
+      return;
+    }
     const Edge3 lightEdge{lv[l], lv[(l + 1) % lv.size()]};
     // An occluder edge coplanar with the light edge (e.g. parallel to it) makes the lines one
     // plane: the EV fans of that plane already hold the event.

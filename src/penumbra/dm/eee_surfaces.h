@@ -19,6 +19,7 @@
 
 #include "penumbra/dm/discontinuity_surface.h"
 #include "penumbra/dm/edge_adjacency.h"
+#include "penumbra/dm/surface_enumeration.h"
 #include "penumbra/spatial/uniform_grid.h"
 
 namespace penumbra {
@@ -46,10 +47,13 @@ struct EeeSurface {
 // vertex) that some line meeting all three crosses in front of the light. The pairs come from the
 // emitter EV surfaces of `light` after casting: every range of such lines ends on a line of one of
 // their fans, where the other edge's polygon cuts it.
+// With `coplanar`, the candidate pairs whose two edges are coplanar (their lines meeting the light
+// edge lie in one plane: no quadric) are appended there (coplanarEdgeSurfaces builds their fans).
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,
-                                             PolygonId light, SurfaceId firstId);
+                                             PolygonId light, SurfaceId firstId,
+                                             std::vector<CoplanarEdgePair>* coplanar = nullptr);
 
 // Surfaces for every triple of silhouette-capable occluder edges (pairwise sharing no vertex, no
 // two coplanar) that some line meeting all three and the light's interior crosses in front of the

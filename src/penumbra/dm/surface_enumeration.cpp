@@ -321,6 +321,118 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
         }
       }
     }
+    // Seen from q's plane, q's projection is a segment on the light's trace; crossing the plane
+    // flips it over, wherever that segment overlaps the lit part of the trace. The fans from T
+    // above hold the points from which it covers an end of the trace; the points from which it
+    // lies inside the trace see its ends at q's vertices: the lines of the plane through a
+    // vertex V, tangent to q there, that meet the trace.
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const Vec3& v = q.vertices[k];
+      if (lightPlane.signedDistance(v) <= 0) continue;
+      // Which side of the line through S(w) and v the vertex u lies on (linear in w).
+      const auto g = [&](const Vec3& u, double w) {
+        return dot(m, cross(v - (t0 + (t1 - t0) * w), u - v));
+      };
+      std::vector<double> breaks{0, 1};
+      for (const Vec3& u : q.vertices) {
+        const double g0 = g(u, 0), g1 = g(u, 1);
+        if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1) breaks.push_back(g0 / (g0 - g1));
+      }
+      std::sort(breaks.begin(), breaks.end());
+      std::vector<std::array<double, 2>> ranges;
+      for (size_t r = 0; r + 1 < breaks.size(); ++r) {
+        if (breaks[r + 1] <= breaks[r]) continue;
+        const double w = 0.5 * (breaks[r] + breaks[r + 1]);
+        bool below = false, above = false;
+        for (const Vec3& u : q.vertices) {
+          below = below || g(u, w) < 0;
+          above = above || g(u, w) > 0;
+        }
+        if (below && above) continue;  // the line passes through q: v is no end of its projection
+        if (!ranges.empty() && ranges.back()[1] == breaks[r])
+          ranges.back()[1] = breaks[r + 1];
+        else
+          ranges.push_back({breaks[r], breaks[r + 1]});
+      }
+      std::vector<PolygonId> hinge = touching;
+      const std::vector<PolygonId>& atVertex = adjacency.vertices()[corners[k]].polygons;
+      hinge.insert(hinge.end(), atVertex.begin(), atVertex.end());
+      for (const auto& [w0, w1] : ranges) {
+        DiscontinuitySurface s;
+        s.id = firstId + SurfaceId(surfaces.size());
+        s.kind = SurfaceKind::kOccluderPlaneOccluderVertex;
+        s.light = light;
+        s.lightFeature = -1;
+        s.occluderFeature = corners[k];
+        s.secondFeature = q.id;
+        s.hingePolygons = hinge;
+        s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v, outline};
+        surfaces.push_back(std::move(s));
+      }
+    }
+  }
+  return surfaces;
+}
+
+std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
+                                                       const EdgeAdjacency& adjacency,
+                                                       const std::vector<CoplanarEdgePair>& pairs,
+                                                       PolygonId light, SurfaceId firstId) {
+  std::vector<DiscontinuitySurface> surfaces;
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const Polygon3& lv = lightPolygon.vertices;
+  for (const CoplanarEdgePair& pair : pairs) {
+    const SceneEdge &first = adjacency.edges()[pair.first],
+                    &second = adjacency.edges()[pair.second];
+    const Vec3 a = adjacency.position(first.a), b = adjacency.position(first.b);
+    const Vec3 c = adjacency.position(second.a), d = adjacency.position(second.b);
+    // Both wholly in front of the light (an edge crossing its plane is left to the other events).
+    if (lightPolygon.plane.signedDistance(a) <= 0 || lightPolygon.plane.signedDistance(b) <= 0 ||
+        lightPolygon.plane.signedDistance(c) <= 0 || lightPolygon.plane.signedDistance(d) <= 0)
+      continue;
+    // The pair's plane: through the first edge and the second edge's farther endpoint.
+    const Vec3 far =
+        squaredLength(cross(b - a, c - a)) > squaredLength(cross(b - a, d - a)) ? c : d;
+    const Vec3& l0 = lv[pair.lightEdge];
+    const Vec3& l1 = lv[(pair.lightEdge + 1) % lv.size()];
+    const Sign s0 = orientation3d(a, b, far, l0), s1 = orientation3d(a, b, far, l1);
+    if (s0 == s1 || s0 == Sign::kZero || s1 == Sign::kZero) continue;
+    const Vec3 m = cross(b - a, far - a);
+    const double h0 = dot(m, l0 - a), h1 = dot(m, l1 - a);
+    const Vec3 t = l0 + (l1 - l0) * (h0 / (h0 - h1));
+    if (!adjacency.isSilhouetteFrom(pair.first, t) || !adjacency.isSilhouetteFrom(pair.second, t))
+      continue;
+    // The first edge's parameters u where the lines from T through the second's endpoints cross
+    // it; both must lie ahead of T on their line.
+    const Vec3 e = b - a;
+    std::array<double, 2> us{};
+    bool ahead = true;
+    for (int k = 0; k < 2; ++k) {
+      const Vec3 direction = (k == 0 ? c : d) - t;
+      const double denominator = dot(m, cross(e, direction));
+      if (denominator == 0) {
+        ahead = false;
+        break;
+      }
+      us[k] = dot(m, cross(direction, a - t)) / denominator;
+      const double along = dot(m, cross(a - t, e)) / dot(m, cross(direction, e));
+      ahead = ahead && along > 0;
+    }
+    if (!ahead) continue;
+    const double u0 = std::max(0.0, std::min(us[0], us[1]));
+    const double u1 = std::min(1.0, std::max(us[0], us[1]));
+    if (!(u0 < u1)) continue;
+    DiscontinuitySurface s;
+    s.id = firstId + SurfaceId(surfaces.size());
+    s.kind = SurfaceKind::kLightEdgeCoplanarEdges;
+    s.light = light;
+    s.lightFeature = pair.lightEdge;
+    s.occluderFeature = pair.first;
+    s.secondFeature = pair.second;
+    s.hingePolygons = first.polygons;
+    s.hingePolygons.insert(s.hingePolygons.end(), second.polygons.begin(), second.polygons.end());
+    s.fan = {t, t, a + e * u0, a + e * u1, {{c, d}}};
+    surfaces.push_back(std::move(s));
   }
   return surfaces;
 }

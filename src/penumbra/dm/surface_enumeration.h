@@ -29,11 +29,28 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
 // from each point T where the plane crosses a light edge, one fan through each edge of the polygon
 // (see SurfaceKind::kLightEdgeOccluderPlane); and for every other occluder edge crossing that
 // plane at X, the lines of the plane through X that meet the light and pass through the polygon
-// (SurfaceKind::kOccluderPlaneOccluderEdge).
+// (SurfaceKind::kOccluderPlaneOccluderEdge); and for each of the polygon's own vertices V, the
+// lines of the plane through V tangent to the polygon that meet the light
+// (SurfaceKind::kOccluderPlaneOccluderVertex).
 std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
                                                                  const EdgeAdjacency& adjacency,
                                                                  const UniformGrid& grid,
                                                                  PolygonId light,
                                                                  SurfaceId firstId);
+
+// A light edge and two coplanar occluder edges (EdgeAdjacency ids) that some line meets.
+struct CoplanarEdgePair {
+  int lightEdge = 0;
+  EdgeId first = 0, second = 0;
+};
+
+// For each pair whose plane crosses the light edge at T (its ends strictly on both sides), the
+// fan from T through the first edge restricted to the lines that also meet the second
+// (SurfaceKind::kLightEdgeCoplanarEdges); the pairs come from the EEE enumeration, which finds
+// them where it finds the light-edge EEE surfaces (enumerateEeeSurfaces).
+std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
+                                                       const EdgeAdjacency& adjacency,
+                                                       const std::vector<CoplanarEdgePair>& pairs,
+                                                       PolygonId light, SurfaceId firstId);
 
 }  // namespace penumbra
