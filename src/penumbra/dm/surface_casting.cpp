@@ -31,6 +31,17 @@ std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const 
   };
   const Vec3 direction = cross(n, newellNormal(p));
   if (squaredLength(direction) == 0) return out;  // parallel or coplanar
+  // A polygon that only touches the plane (an edge or a vertex on it, the rest on one side) is
+  // grazed, not crossed, by the plane's lines: it neither hides an event nor receives one (a
+  // shelf whose edge lies in a fan's plane stopped the event there, and the wall behind, lit
+  // past that edge, lost it).
+  bool below = false, above = false;
+  for (const Vec3& v : p) {
+    const Sign sign = orientation3d(convex[0], convex[1], convex[2], v);
+    below = below || sign == Sign::kNegative;
+    above = above || sign == Sign::kPositive;
+  }
+  if (!below || !above) return out;
   std::vector<double> crossings;
   std::vector<Vec3> points;
   for (size_t i = 0; i < p.size(); ++i) {
