@@ -5,10 +5,13 @@
 // false alarm (two names for one geometric feature, e.g. collinear edges of different polygons);
 // the others are crossed by an event the mesh lacks, and the labels say which kind.
 //
-// Usage: dm_gaps SCENE.json [--faces N] [--edge K]... [--vertex V]... [--polygon P]...   (prints
-// scene edges K, polygons P,
-// vertices V with their planar surfaces' visible pieces, the first N
-// unresolved faces in full, default 20, then counts by kind of difference)
+// Usage: dm_gaps SCENE.json [--slivers] [--faces N] [--edge K]... [--vertex V]... [--polygon P]...
+//   --faces N     the first N unresolved faces in full (default 20), then counts by kind
+//   --slivers     the slivers, by the kinds of surfaces on their edges
+//   --edge K, --vertex V, --polygon P: scene edges, vertices (with their planar surfaces' visible
+//                 pieces) and polygons
+// Environment: NOVERIFY=1 builds without face verification (every face wrong at a corner is then
+// listed with its labels); NEAR="P x y z r" lists the mesh edges of polygon P within r of a point.
 
 #include <algorithm>
 #include <array>
@@ -126,15 +129,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   int listed = 20;
+  bool slivers = false;
   std::vector<int> edgesToShow, verticesToShow, polygonsToShow;
   for (int i = 2; i + 1 < argc; ++i) {
     if (!std::strcmp(argv[i], "--faces")) listed = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--slivers")) slivers = true;
     if (!std::strcmp(argv[i], "--edge")) edgesToShow.push_back(std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--vertex")) verticesToShow.push_back(std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--polygon")) polygonsToShow.push_back(std::atoi(argv[i + 1]));
   }
   const Scene scene = loadScene(argv[1]);
-  DiscontinuityMeshEngine engine;
+  // NOVERIFY=1: every face answers from its labels, and the check of resolved faces below then
+  // lists every face wrong at a corner.
+  DiscontinuityMeshEngine engine({.verifyFaces = std::getenv("NOVERIFY") == nullptr});
   engine.build(scene, 0);
   const PosedScene& posed = engine.posedScene();
   const UniformGrid grid(posed);
@@ -149,6 +156,15 @@ int main(int argc, char** argv) {
                 a.x, a.y, a.z, b.x, b.y, b.z, int(edge.canBeSilhouette));
     for (PolygonId p : edge.polygons) std::printf(" %d", p);
     std::printf("\n");
+    for (const DiscontinuitySurface& surface : engine.surfaces()) {
+      if (surface.kind != SurfaceKind::kEmitterVertexOccluderEdge || surface.occluderFeature != e)
+        continue;
+      std::printf("  surface %d (light vertex %d): %zu stored intersections\n", surface.id,
+                  surface.lightFeature, surface.intersections.size());
+      for (const DiscontinuitySegment& piece : visibleSegments(surface))
+        std::printf("    on %d: (%.6f %.6f %.6f) - (%.6f %.6f %.6f)\n", piece.receiver, piece.p0.x,
+                    piece.p0.y, piece.p0.z, piece.p1.x, piece.p1.y, piece.p1.z);
+    }
   }
   for (int id : polygonsToShow) {
     std::printf("polygon %d:", id);
@@ -176,6 +192,54 @@ int main(int argc, char** argv) {
                     piece.p0.y, piece.p0.z, piece.p1.x, piece.p1.y, piece.p1.z);
     }
   }
+  if (const char* near = std::getenv("NEAR")) {
+    // Mesh edges of polygon P within R of (x, y, z): "P x y z R".
+    int polygon = 0;
+    double x = 0, y = 0, z = 0, r = 0;
+    std::sscanf(near, "%d %lf %lf %lf %lf", &polygon, &x, &y, &z, &r);
+    const Vec3 c{x, y, z};
+    for (const auto& [segment, surfaces] : engine.meshOf(polygon)->edges()) {
+      const auto [a, b] = segment;
+      const Vec3 ab = b - a;
+      const double t = std::clamp(dot(c - a, ab) / dot(ab, ab), 0.0, 1.0);
+      if (distance(a + ab * t, c) > r) continue;
+      std::printf("edge (%.9f %.9f %.9f) - (%.9f %.9f %.9f):", a.x, a.y, a.z, b.x, b.y, b.z);
+      for (SurfaceId s : surfaces) std::printf(" %d", s);
+      std::printf("\n");
+    }
+  }
+  if (slivers) {
+    // Which events bound the slivers: the kinds of the surfaces on their edges.
+    const auto kindOf = [&](SurfaceId id) -> std::string {
+      if (id >= 0 && id < SurfaceId(engine.surfaces().size()))
+        return "planar" + std::to_string(int(engine.surfaces()[id].kind));
+      if (id >= 0) return "eee";
+      if (id == ReceiverMesh::kBoundary) return "outline";
+      const int k = ReceiverMesh::kBoundary - 1 - id, n = int(posed.polygons.size());
+      return k < n ? "contact" : k < 2 * n ? "light-plane" : "horizon";
+    };
+    std::map<std::string, int> byKinds;
+    int count = 0;
+    for (const WorldPolygon& receiver : posed.polygons) {
+      const ReceiverMesh* mesh = engine.meshOf(receiver.id);
+      if (!mesh) continue;
+      std::map<int, std::vector<std::string>> kinds;
+      for (const FaceCrossing& c : mesh->faceCrossings())
+        for (int f : {c.face, c.other})
+          if (engine.isAnsweredAtPoint(receiver.id, f) && !engine.isUnresolved(receiver.id, f))
+            for (SurfaceId id : c.surfaces) kinds[f].push_back(kindOf(id));
+      for (auto& [f, names] : kinds) {
+        std::sort(names.begin(), names.end());
+        names.erase(std::unique(names.begin(), names.end()), names.end());
+        std::string key;
+        for (const std::string& name : names) key += name + " ";
+        ++byKinds[key];
+        ++count;
+      }
+    }
+    std::printf("%d slivers by the kinds of surfaces on their edges:\n", count);
+    for (const auto& [key, n] : byKinds) std::printf("  %6d  %s\n", n, key.c_str());
+  }
   std::map<std::string, int> realByKind, aliasByKind;
   int unresolved = 0, real = 0, alias = 0, shown = 0, verifiedWrong = 0, shownWrong = 0;
   for (const WorldPolygon& receiver : posed.polygons) {
@@ -196,6 +260,19 @@ int main(int argc, char** argv) {
             const Rgb got = builder.irradiance(perLight, p, n, receiver.id);
             if (std::abs(got.r - expected.r) <= 1e-9 * std::max(1e-2, expected.r)) continue;
             ++verifiedWrong;
+            if (shownWrong < listed)
+              for (size_t l = 0; l < posed.lights.size(); ++l) {
+                const Backprojection here = builder.compute(posed.lights[l], p, n, receiver.id);
+                const std::vector<Label> a = labelSet(perLight[l], adjacency),
+                                         b = labelSet(here, adjacency);
+                std::vector<Label> onlySample, onlyHere;
+                std::set_difference(a.begin(), a.end(), b.begin(), b.end(),
+                                    std::back_inserter(onlySample));
+                std::set_difference(b.begin(), b.end(), a.begin(), a.end(),
+                                    std::back_inserter(onlyHere));
+                std::printf("  light %zu: sample only%s; corner only%s\n", l,
+                            describe(onlySample).c_str(), describe(onlyHere).c_str());
+              }
             bool labelled = true;
             for (const Backprojection& bp : perLight) labelled = labelled && bp.isLabelled;
             if (shownWrong++ < listed)

@@ -248,7 +248,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
                   stats_.horizonSegments);
     }
     addExtended(contactSegments(scene, *grid_, receiver), stats_.contactSegments);
-    data.mesh.insert(segments);
+    data.mesh.insert(segments, kSegmentSnap * scene.bounds.diagonalLength());
     stats_.meshVertices += data.mesh.vertexCount();
     stats_.meshEdges += data.mesh.edgeCount();
     stats_.meshFaces += (long long)data.mesh.faces().size();
@@ -294,9 +294,7 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
 
   const auto verify = [&](const MeshFace& face, FaceData& faceData, std::vector<int>& compared) {
     compared.assign(lights, 0);
-    // Faces of no area (where extended segments overshoot one another) have degenerate labels
-    // and no corner to check them at: not verified, answered at the point (FaceData::sliver).
-    if (!options_.verifyFaces || face.area <= sliver * sliver) return false;
+    if (!options_.verifyFaces) return false;
     const auto verifying = Clock::now();
     faceData.unresolved =
         !labelsHoldAtCorners(data.mesh, face, faceData, data.eeeSegments, &compared);
@@ -308,10 +306,13 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
     const MeshFace& face = faces[f];
     FaceData& faceData = data.faces[f];
     faceData.sliver = face.area <= sliver * sliver;
-    // Beside an EEE polyline the sample may lie across the true conic from the mesh's edge.
-    const bool mayPropagate = propagate && face.area > sliver * sliver &&
-                              !data.eeeSegments.near(face.samplePoint, nearEee());
     occluders[f].assign(lights, {});
+    if (faceData.sliver) {  // answered at the point: its labels would not be used
+      for (PolygonId light : scene.lights) faceData.perLight.push_back({light, false, {}});
+      return;
+    }
+    // Beside an EEE polyline the sample may lie across the true conic from the mesh's edge.
+    const bool mayPropagate = propagate && !data.eeeSegments.near(face.samplePoint, nearEee());
     std::vector<char> propagated(lights, 0);
     for (size_t l = 0; l < lights; ++l) {
       const PolygonId light = scene.lights[l];
@@ -392,7 +393,8 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
   }
 
   for (const FaceData& faceData : data.faces) {
-    for (const Backprojection& bp : faceData.perLight) {
+    for (const Backprojection& bp :
+         faceData.sliver ? std::vector<Backprojection>{} : faceData.perLight) {
       stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
       for (const auto& cycle : bp.cycles) {
         stats_.backprojectionVertices += (long long)cycle.size();
@@ -455,10 +457,10 @@ double DiscontinuityMeshEngine::nearEee() const {
 }
 
 Rgb DiscontinuityMeshEngine::atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const {
-  std::vector<Backprojection> here;
-  for (PolygonId light : posed_->lights)
-    here.push_back(backprojections_->compute(light, p, n, receiver));
-  return backprojections_->irradiance(here, p, n, receiver);
+  // The visible region computed where the point is, used as it is: labelling it and evaluating
+  // the labels again (the backprojection's round trip) loses digits where the point is
+  // degenerate (a corner of a sliver where events meet: 2% at one such point).
+  return reference_->irradiance(p, n, receiver);
 }
 
 std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3& n) const {

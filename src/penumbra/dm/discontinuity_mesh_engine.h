@@ -89,6 +89,9 @@ class DiscontinuityMeshEngine {
  public:
   // Discontinuity segments are lengthened by this fraction of the scene's size at both ends.
   static constexpr double kSegmentExtension = 1e-9;
+  // Segments within this fraction of the scene's size of one line are snapped onto one exact line
+  // (ReceiverMesh::insert): axis-aligned scenes compute many events twice, by coplanar fans.
+  static constexpr double kSegmentSnap = 1e-12;
   // EEE conics are traced as polylines within this fraction of the scene's size; points closer
   // than twice that to such a polyline get their backprojection computed where they are.
   static constexpr double kEeeChordTolerance = 1e-6;
@@ -141,9 +144,10 @@ class DiscontinuityMeshEngine {
     // The labels at the face's sample differ from those just inside one of its corners: an event
     // the mesh lacks crosses the face, and its irradiance is computed at each query point.
     bool unresolved = false;
-    // Narrower than kSliverSize: made by events a rounding apart, its sample's labels are not
-    // checked (no corner lies inside it at a usable distance) nor trusted; its irradiance is
-    // computed at each query point.
+    // Of area below kSliverSize squared: made by events a rounding apart (extended segments
+    // overshooting one another, collinear events computed twice), it has degenerate labels and
+    // no corner to check them at. No labels are computed; its irradiance is computed at each
+    // query point. About half the faces of the furnished scenes are slivers.
     bool sliver = false;
     bool answersAtPoint() const { return unresolved || sliver; }
   };

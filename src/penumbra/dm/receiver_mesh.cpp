@@ -8,6 +8,8 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <map>
 
 namespace penumbra {
@@ -192,13 +194,121 @@ PolygonId ReceiverMesh::receiver() const {
   return impl_->receiver;
 }
 
-void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments) {
-  std::vector<Traits::Curve_2> curves;
-  curves.reserve(segments.size());
+namespace {
+
+struct Piece {
+  Point a, b;
+  SurfaceId surface;
+  bool isOutline;
+  bool isJoined = false;  // shares an endpoint exactly with another piece (a polyline's joint)
+};
+
+// Groups the pieces lying within `tolerance` of one line and moves each exactly onto the line of
+// its group's reference (an outline edge if one is in the group, else the longest piece): the
+// projection of its endpoints onto that line, in exact arithmetic.
+void snapNearlyCollinear(std::vector<Piece>& pieces, double tolerance) {
+  struct Line {
+    double angle, offset, length;
+    size_t index;
+  };
+  std::vector<Line> lines;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const double ax = CGAL::to_double(pieces[i].a.x()), ay = CGAL::to_double(pieces[i].a.y());
+    double dx = CGAL::to_double(pieces[i].b.x()) - ax, dy = CGAL::to_double(pieces[i].b.y()) - ay;
+    const double length = std::hypot(dx, dy);
+    if (length == 0) continue;
+    dx /= length;
+    dy /= length;
+    // The line's direction modulo pi, measured from a direction no scene is likely to be aligned
+    // with, so that no family of parallel lines straddles the wrap; an odd multiple of pi taken
+    // off flips the direction, which keeps the offset's sign consistent within a family.
+    constexpr double kSkew = 0.3217;
+    double angle = std::atan2(dy, dx) - kSkew;
+    const long turns = std::lround(std::floor(angle / M_PI));
+    angle -= double(turns) * M_PI;
+    if (turns % 2 != 0) {
+      dx = -dx;
+      dy = -dy;
+    }
+    lines.push_back({angle, dx * ay - dy * ax, length, i});
+  }
+  std::sort(lines.begin(), lines.end(),
+            [](const Line& x, const Line& y) { return x.angle < y.angle; });
+  // The group's reference: an outline edge if one is in it (input geometry), else the longest.
+  const auto better = [&](const Line& x, const Line& y) {
+    if (pieces[x.index].isOutline != pieces[y.index].isOutline) return pieces[x.index].isOutline;
+    return x.length > y.length;
+  };
+  constexpr double kAngle = 1e-9;
+  for (size_t begin = 0; begin < lines.size();) {
+    size_t end = begin + 1;
+    while (end < lines.size() && lines[end].angle - lines[end - 1].angle <= kAngle) ++end;
+    std::sort(lines.begin() + begin, lines.begin() + end,
+              [](const Line& x, const Line& y) { return x.offset < y.offset; });
+    for (size_t first = begin; first < end;) {
+      size_t last = first + 1;
+      while (last < end && lines[last].offset - lines[last - 1].offset <= tolerance) ++last;
+      if (last - first > 1) {
+        const size_t reference = size_t(
+            std::min_element(lines.begin() + first, lines.begin() + last, better) - lines.begin());
+        const Point a = pieces[lines[reference].index].a, b = pieces[lines[reference].index].b;
+        const auto ab = b - a;
+        const FT squared = ab * ab;
+        const double norm = std::sqrt(CGAL::to_double(squared));
+        const auto distance = [&](const Point& p) {
+          const auto ap = p - a;
+          return std::abs(CGAL::to_double(ab.x() * ap.y() - ab.y() * ap.x())) / norm;
+        };
+        const auto onLine = [&](const Point& p) { return a + ab * (((p - a) * ab) / squared); };
+        for (size_t k = first; k < last; ++k) {
+          Piece& piece = pieces[lines[k].index];
+          // Moving a joined piece would open a gap at its joint (EEE polylines).
+          if (k == reference || piece.isOutline || piece.isJoined) continue;
+          // Both ends near the reference's line (a chain of offsets may drift).
+          if (distance(piece.a) > 2 * tolerance || distance(piece.b) > 2 * tolerance) continue;
+          const Point snappedA = onLine(piece.a), snappedB = onLine(piece.b);
+          if (snappedA == snappedB) continue;
+          piece.a = snappedA;
+          piece.b = snappedB;
+        }
+      }
+      first = last;
+    }
+    begin = end;
+  }
+}
+
+}  // namespace
+
+void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance) {
+  std::vector<Piece> pieces;
+  pieces.reserve(segments.size());
+  std::map<std::array<double, 3>, int> ends;
+  const auto key = [](const Vec3& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
   for (const DiscontinuitySegment& s : segments) {
     const Point a = impl_->toPoint(s.p0), b = impl_->toPoint(s.p1);
-    if (a != b) curves.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), s.surface));
+    if (a == b) continue;
+    pieces.push_back({a, b, s.surface, false});
+    if (snapTolerance > 0) {
+      ++ends[key(s.p0)];
+      ++ends[key(s.p1)];
+    }
   }
+  if (snapTolerance > 0) {
+    size_t k = 0;
+    for (const DiscontinuitySegment& s : segments) {
+      if (impl_->toPoint(s.p0) == impl_->toPoint(s.p1)) continue;
+      pieces[k++].isJoined = ends[key(s.p0)] > 1 || ends[key(s.p1)] > 1;
+    }
+    for (const Traits::Curve_2& edge : impl_->boundary)
+      pieces.push_back({edge.source(), edge.target(), kBoundary, true});
+    snapNearlyCollinear(pieces, snapTolerance);
+    std::erase_if(pieces, [](const Piece& p) { return p.isOutline; });
+  }
+  std::vector<Traits::Curve_2> curves;
+  curves.reserve(pieces.size());
+  for (const Piece& p : pieces)
+    curves.push_back(Traits::Curve_2(SegmentTraits::Curve_2(p.a, p.b), p.surface));
   if (impl_->onlyBoundary && !curves.empty()) {
     // The first insertion rebuilds the arrangement from nothing, outline and segments in one
     // sweep: CGAL's sweep into a non-empty arrangement walks a new face's whole boundary each

@@ -40,8 +40,12 @@ class ReceiverMesh {
 
   PolygonId receiver() const;
   // Inserts segments lying on the receiver's plane (projected onto it), in one sweep.
-  // Overlapping pieces keep the union of their surfaces.
-  void insert(const std::vector<DiscontinuitySegment>& segments);
+  // Overlapping pieces keep the union of their surfaces. Segments that lie within
+  // `snapTolerance` of one line (one event computed by several coplanar surfaces, an event along a
+  // contact line) are first moved exactly onto the line of the longest of them (also the
+  // outline's, where one is near), each keeping its surface: computed apart they would stand a
+  // few ulps from one another and leave sliver faces between them.
+  void insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance = 0);
   // Removes the surface from every edge; edges left with no surface disappear. Local: only the
   // faces around those edges change.
   void removeSurface(SurfaceId surface);
