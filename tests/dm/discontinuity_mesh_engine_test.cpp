@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -204,6 +205,43 @@ TEST(DiscontinuityMeshEngine, CoplanarEdgesOfDifferentObjectsCompleteTheMesh) {
   engine.build(scene, 0);
   EXPECT_GT(engine.stats().surfacesCoplanarEdges, 0);
   EXPECT_EQ(facesWrongAtCorners(poseAt(scene, 0), "desk-145"), 0);
+}
+
+// Points exactly on mesh edges (the middle of every edge an EV or EEE event made, not lying on a
+// contact line, where irradiance jumps): the located face is either neighbour, and both give the
+// reference's value (irradiance is continuous across those events).
+TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
+  test::SceneBuilder b = litRoom();
+  test::addTiltedBoxPair(b, "white");
+  test::addBox(b, "white", "resting", {0.6, 0.7, 0}, {1.1, 1.3, 0.5});
+  const PosedScene scene = b.pose();
+  DiscontinuityMeshEngine engine;
+  engine.build(PosedScene(scene));
+  const UniformGrid grid(scene);
+  const ExactReference reference(scene, &grid);
+  int checked = 0, failures = 0;
+  for (const WorldPolygon& receiver : scene.polygons) {
+    const ReceiverMesh* mesh = engine.meshOf(receiver.id);
+    if (!mesh) continue;
+    for (const auto& [segment, surfaces] : mesh->edges()) {
+      // Surfaces of events have ids from 0; the outline, contact lines, light planes and
+      // horizons are numbered below it (see discontinuity_mesh_engine.cpp).
+      const bool event =
+          std::all_of(surfaces.begin(), surfaces.end(), [](SurfaceId id) { return id >= 0; });
+      if (!event || distance(segment.first, segment.second) < 1e-6) continue;
+      const Vec3 p = (segment.first + segment.second) * 0.5;
+      const std::optional<Rgb> got = engine.irradiance(p, receiver.plane.normal);
+      const double expected = reference.irradiance(p, receiver.plane.normal, receiver.id).r;
+      ++checked;
+      if (!got || std::abs(got->r - expected) > 1e-9 * std::max(1e-2, expected)) {
+        if (failures++ == 0)
+          ADD_FAILURE() << "on polygon " << receiver.id << " at (" << p.x << ", " << p.y << ", "
+                        << p.z << "): dm " << (got ? got->r : -1) << ", reference " << expected;
+      }
+    }
+  }
+  EXPECT_GT(checked, 500);
+  EXPECT_EQ(failures, 0) << failures << " of " << checked;
 }
 
 TEST(DiscontinuityMeshEngine, FloatingBoxIsExact) {

@@ -54,6 +54,42 @@ TEST(ReceiverMesh, InsertSplitsAndRemoveRestoresLocally) {
   EXPECT_EQ(mesh.faces().size(), 1u);
 }
 
+// One event computed twice (coplanar fans), a few ulps apart: inserted as they are they leave a
+// sliver between them; snapped, they share one exact line, each keeping its surface. A polyline
+// of two pieces sharing a joint stays joined (its pieces are not moved), and a segment farther
+// from the line than the tolerance is left alone.
+TEST(ReceiverMesh, NearlyCollinearSegmentsAreSnappedOntoOneLine) {
+  const Vec3 a{0, 0.3, 0}, b{1, 0.7, 0};
+  const Vec3 offset{0, 3e-16, 0};
+  const std::vector<DiscontinuitySegment> twice = {{7, 0, a, b, 0, 1},
+                                                   {8, 0, a + offset, b - offset, 0, 1}};
+  ReceiverMesh raw(unitSquareReceiver()), snapped(unitSquareReceiver());
+  raw.insert(twice);
+  snapped.insert(twice, 1e-12);
+  EXPECT_GT(raw.faces().size(), 2u);  // the sliver between them
+  ASSERT_EQ(snapped.faces().size(), 2u);
+  EXPECT_NEAR(totalArea(snapped), 1.0, 1e-15);
+  int shared = 0;
+  for (const auto& [segment, surfaces] : snapped.edges()) shared += surfaces.size() == 2 ? 1 : 0;
+  EXPECT_GE(shared, 1);
+
+  // A polyline (joint at m) beside a long segment on nearly its line, and a far parallel one.
+  const Vec3 m{0.5, 0.5 + 2e-16, 0};
+  ReceiverMesh joined(unitSquareReceiver());
+  joined.insert({{1, 0, {0, 0.5, 0}, {1, 0.5, 0}, 0, 1},
+                 {2, 0, {0.2, 0.5, 0}, m, 0, 1},
+                 {2, 0, m, {0.8, 0.5 - 2e-16, 0}, 0, 1},
+                 {3, 0, {0, 0.5 + 1e-6, 0}, {1, 0.5 + 1e-6, 0}, 0, 1}},
+                1e-12);
+  EXPECT_NEAR(totalArea(joined), 1.0, 1e-15);
+  // The far segment still splits off its own strip: below 0.5, the strip, above.
+  const auto low = joined.locate({0.5, 0.25, 0}), strip = joined.locate({0.1, 0.5 + 5e-7, 0}),
+             high = joined.locate({0.5, 0.75, 0});
+  ASSERT_TRUE(low && strip && high);
+  EXPECT_NE(*low, *strip);
+  EXPECT_NE(*strip, *high);
+}
+
 TEST(ReceiverMesh, RandomSegmentsKeepAreaAndLocateEverySample) {
   ReceiverMesh mesh(unitSquareReceiver());
   std::mt19937_64 rng(4);
