@@ -25,24 +25,38 @@ struct CriticalLine {
   double farContact = 1;  // max(1, s): where the event begins along the line
 };
 
-// The critical line through L(t), if it meets both occluder segments in front of the light.
-std::optional<CriticalLine> criticalLine(const Edge3& light, const Edge3& e1, const Edge3& e2,
-                                         double t) {
-  const Vec3 l = light.a + (light.b - light.a) * t;
-  const Vec3 e = e1.b - e1.a;
-  const Vec3 m = cross(e, l - e1.a);  // plane through L and e1
-  const double denominator = dot(m, e2.b - e2.a);
+// The line through e1(t) meeting the lines of e2 and e3 within both segments: it passes e1 at
+// p (u = 0), e3 at p + direction (u = 1), e2 at u = atSecond.
+struct ThreeEdgeLine {
+  Vec3 p, direction;
+  double atSecond = 0;
+};
+
+std::optional<ThreeEdgeLine> lineThroughThree(const Edge3& e1, const Edge3& e2, const Edge3& e3,
+                                              double t) {
+  const Vec3 p = e1.a + (e1.b - e1.a) * t;
+  const Vec3 e = e2.b - e2.a;
+  const Vec3 m = cross(e, p - e2.a);  // plane through p and e2
+  const double denominator = dot(m, e3.b - e3.a);
   if (denominator == 0) return std::nullopt;
-  const double w = dot(m, e1.a - e2.a) / denominator;
+  const double w = dot(m, e2.a - e3.a) / denominator;
   if (w < 0 || w > 1) return std::nullopt;
-  const Vec3 q = e2.a + (e2.b - e2.a) * w;
-  const Vec3 d = q - l;
+  const Vec3 d = e3.a + (e3.b - e3.a) * w - p;
   const double cross2 = dot(m, cross(d, e));
   if (cross2 == 0) return std::nullopt;
-  const double s = dot(m, cross(e1.a - l, e)) / cross2;
-  const double r = dot(m, cross(e1.a - l, d)) / cross2;
-  if (r < 0 || r > 1 || s <= 0) return std::nullopt;
-  return CriticalLine{l, d, std::max(1.0, s)};
+  const double u = dot(m, cross(e2.a - p, e)) / cross2;
+  const double r = dot(m, cross(e2.a - p, d)) / cross2;
+  if (r < 0 || r > 1) return std::nullopt;
+  return ThreeEdgeLine{p, d, u};
+}
+
+// The critical line through L(t) on the light edge, if it meets both occluder segments in front
+// of the light.
+std::optional<CriticalLine> criticalLine(const Edge3& light, const Edge3& e1, const Edge3& e2,
+                                         double t) {
+  const auto line = lineThroughThree(light, e1, e2, t);
+  if (!line || line->atSecond <= 0) return std::nullopt;
+  return CriticalLine{line->p, line->direction, std::max(1.0, line->atSecond)};
 }
 
 // Where the plane through v and edge `other` crosses segment `along`, strictly inside it: a line
@@ -101,31 +115,6 @@ std::optional<double> crossing(const WorldPolygon& q, const Vec3& source, const 
   for (const Vec3& v : q.vertices) loop.push_back(flat(v));
   if (!containsPoint(loop, flat(x))) return std::nullopt;
   return u;
-}
-
-// The line through e1(t) meeting the lines of e2 and e3 within both segments: it passes e1 at
-// p (u = 0), e3 at p + direction (u = 1), e2 at u = atSecond.
-struct ThreeEdgeLine {
-  Vec3 p, direction;
-  double atSecond = 0;
-};
-
-std::optional<ThreeEdgeLine> lineThroughThree(const Edge3& e1, const Edge3& e2, const Edge3& e3,
-                                              double t) {
-  const Vec3 p = e1.a + (e1.b - e1.a) * t;
-  const Vec3 e = e2.b - e2.a;
-  const Vec3 m = cross(e, p - e2.a);  // plane through p and e2
-  const double denominator = dot(m, e3.b - e3.a);
-  if (denominator == 0) return std::nullopt;
-  const double w = dot(m, e2.a - e3.a) / denominator;
-  if (w < 0 || w > 1) return std::nullopt;
-  const Vec3 d = e3.a + (e3.b - e3.a) * w - p;
-  const double cross2 = dot(m, cross(d, e));
-  if (cross2 == 0) return std::nullopt;
-  const double u = dot(m, cross(e2.a - p, e)) / cross2;
-  const double r = dot(m, cross(e2.a - p, d)) / cross2;
-  if (r < 0 || r > 1) return std::nullopt;
-  return ThreeEdgeLine{p, d, u};
 }
 
 // The critical line of three occluder edges through e1(t), from the point where it leaves the

@@ -77,6 +77,40 @@ std::vector<std::array<double, 2>> separatingRanges(const Vec3& s0, const Vec3& 
   return ranges;
 }
 
+// The ranges of w in [0, 1] where the line of a polygon's plane (normal m) through the light's
+// trace point S(w) = t0 + (t1 - t0) w and `pivot` passes through the polygon (its vertices on both
+// sides; `through`) or only touches it at the pivot (all on one side). Each vertex's side changes
+// once, where g(v, w), linear in w, is zero.
+std::vector<std::array<double, 2>> pivotRanges(const Vec3& pivot, const Vec3& t0, const Vec3& t1,
+                                               const Vec3& m, const Polygon3& vertices,
+                                               bool through) {
+  const auto g = [&](const Vec3& v, double w) {
+    return dot(m, cross(pivot - (t0 + (t1 - t0) * w), v - pivot));
+  };
+  std::vector<double> breaks{0, 1};
+  for (const Vec3& v : vertices) {
+    const double g0 = g(v, 0), g1 = g(v, 1);
+    if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1) breaks.push_back(g0 / (g0 - g1));
+  }
+  std::sort(breaks.begin(), breaks.end());
+  std::vector<std::array<double, 2>> ranges;
+  for (size_t r = 0; r + 1 < breaks.size(); ++r) {
+    if (breaks[r + 1] <= breaks[r]) continue;
+    const double w = 0.5 * (breaks[r] + breaks[r + 1]);
+    bool below = false, above = false;
+    for (const Vec3& v : vertices) {
+      below = below || g(v, w) < 0;
+      above = above || g(v, w) > 0;
+    }
+    if ((below && above) != through) continue;
+    if (!ranges.empty() && ranges.back()[1] == breaks[r])
+      ranges.back()[1] = breaks[r + 1];
+    else
+      ranges.push_back({breaks[r], breaks[r + 1]});
+  }
+  return ranges;
+}
+
 }  // namespace
 
 std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& scene,
@@ -281,32 +315,8 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
         const double da = q.plane.signedDistance(a), db = q.plane.signedDistance(b);
         const Vec3 x = a + (b - a) * (da / (da - db));
         if (lightPlane.signedDistance(x) <= 0) continue;
-        // The w where the line through S(w) and x has q's vertices on both sides.
-        const auto g = [&](const Vec3& v, double w) {
-          return dot(m, cross(x - (t0 + (t1 - t0) * w), v - x));
-        };
-        std::vector<double> breaks{0, 1};
-        for (const Vec3& v : q.vertices) {
-          const double g0 = g(v, 0), g1 = g(v, 1);
-          if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1)
-            breaks.push_back(g0 / (g0 - g1));
-        }
-        std::sort(breaks.begin(), breaks.end());
-        std::vector<std::array<double, 2>> ranges;
-        for (size_t r = 0; r + 1 < breaks.size(); ++r) {
-          const double w = 0.5 * (breaks[r] + breaks[r + 1]);
-          bool below = false, above = false;
-          for (const Vec3& v : q.vertices) {
-            below = below || g(v, w) < 0;
-            above = above || g(v, w) > 0;
-          }
-          if (!below || !above || breaks[r + 1] <= breaks[r]) continue;
-          if (!ranges.empty() && ranges.back()[1] == breaks[r])
-            ranges.back()[1] = breaks[r + 1];
-          else
-            ranges.push_back({breaks[r], breaks[r + 1]});
-        }
-        for (const auto& [w0, w1] : ranges) {
+        // The w where the line through S(w) and x passes through q.
+        for (const auto& [w0, w1] : pivotRanges(x, t0, t1, m, q.vertices, true)) {
           DiscontinuitySurface s;
           s.id = firstId + SurfaceId(surfaces.size());
           s.kind = SurfaceKind::kOccluderPlaneOccluderEdge;
@@ -329,35 +339,10 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
     for (size_t k = 0; k < corners.size(); ++k) {
       const Vec3& v = q.vertices[k];
       if (lightPlane.signedDistance(v) <= 0) continue;
-      // Which side of the line through S(w) and v the vertex u lies on (linear in w).
-      const auto g = [&](const Vec3& u, double w) {
-        return dot(m, cross(v - (t0 + (t1 - t0) * w), u - v));
-      };
-      std::vector<double> breaks{0, 1};
-      for (const Vec3& u : q.vertices) {
-        const double g0 = g(u, 0), g1 = g(u, 1);
-        if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1) breaks.push_back(g0 / (g0 - g1));
-      }
-      std::sort(breaks.begin(), breaks.end());
-      std::vector<std::array<double, 2>> ranges;
-      for (size_t r = 0; r + 1 < breaks.size(); ++r) {
-        if (breaks[r + 1] <= breaks[r]) continue;
-        const double w = 0.5 * (breaks[r] + breaks[r + 1]);
-        bool below = false, above = false;
-        for (const Vec3& u : q.vertices) {
-          below = below || g(u, w) < 0;
-          above = above || g(u, w) > 0;
-        }
-        if (below && above) continue;  // the line passes through q: v is no end of its projection
-        if (!ranges.empty() && ranges.back()[1] == breaks[r])
-          ranges.back()[1] = breaks[r + 1];
-        else
-          ranges.push_back({breaks[r], breaks[r + 1]});
-      }
       std::vector<PolygonId> hinge = touching;
       const std::vector<PolygonId>& atVertex = adjacency.vertices()[corners[k]].polygons;
       hinge.insert(hinge.end(), atVertex.begin(), atVertex.end());
-      for (const auto& [w0, w1] : ranges) {
+      for (const auto& [w0, w1] : pivotRanges(v, t0, t1, m, q.vertices, false)) {
         DiscontinuitySurface s;
         s.id = firstId + SurfaceId(surfaces.size());
         s.kind = SurfaceKind::kOccluderPlaneOccluderVertex;
