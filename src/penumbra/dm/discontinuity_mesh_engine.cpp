@@ -122,6 +122,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
         ++stats_.surfacesOccluderPlaneVertex;
         break;
       case SurfaceKind::kLightEdgeCoplanarEdges:  // made after casting, counted there
+      case SurfaceKind::kLightEdgeParallelEdgeCrossing:
         break;
     }
   }
@@ -168,6 +169,11 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   const std::vector<PolygonId> eeeLights =
       options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
   std::vector<DiscontinuitySurface> coplanar;
+  for (PolygonId light : options_.parallelEdgeCrossings ? scene.lights : std::vector<PolygonId>{})
+    for (DiscontinuitySurface& s : parallelEdgeCrossingSurfaces(
+             scene, *adjacency_, surfaces_, light, SurfaceId(surfaces_.size() + coplanar.size())))
+      coplanar.push_back(std::move(s));
+  stats_.surfacesParallelEdgeCrossing = int(coplanar.size());
   for (PolygonId light : eeeLights) {
     std::vector<CoplanarEdgePair> pairs;
     for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs))
@@ -176,7 +182,8 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
              scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + coplanar.size())))
       coplanar.push_back(std::move(s));
   }
-  // The coplanar-edge fans are planar surfaces like the EV ones: cast, clipped by visibility,
+  // The parallel-edge and coplanar-edge fans are planar surfaces like the EV ones (made from the
+  // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
   // numbered after them; the EEE surfaces are numbered after all planar ones.
   for (DiscontinuitySurface& s : coplanar) {
     castSurface(s, scene, *grid_);
@@ -189,7 +196,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
     }
     surfaces_.push_back(std::move(s));
   }
-  stats_.surfacesCoplanarEdges = int(coplanar.size());
+  stats_.surfacesCoplanarEdges = int(coplanar.size()) - stats_.surfacesParallelEdgeCrossing;
   for (size_t k = 0; k < eeeSurfaces_.size(); ++k)
     eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the

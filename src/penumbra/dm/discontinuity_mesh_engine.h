@@ -35,10 +35,11 @@ struct DmStats {
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
   int surfacesOccluderPlane = 0;      // light edge × an occluder polygon's plane (degenerate EEE)
   int surfacesOccluderPlaneEdge = 0;  // occluder edge × an occluder polygon's plane
-  int surfacesOccluderPlaneVertex = 0;  // an occluder polygon's plane × its own vertex
-  int surfacesCoplanarEdges = 0;        // light edge × two coplanar occluder edges
-  int surfacesEee = 0;                  // light edge × two occluder edges (traced as polylines)
-  int surfacesEeeOccluder = 0;          // three occluder edges (traced as polylines)
+  int surfacesOccluderPlaneVertex = 0;   // an occluder polygon's plane × its own vertex
+  int surfacesCoplanarEdges = 0;         // light edge × two coplanar occluder edges
+  int surfacesParallelEdgeCrossing = 0;  // light edge × parallel occluder edge × crossing X
+  int surfacesEee = 0;                   // light edge × two occluder edges (traced as polylines)
+  int surfacesEeeOccluder = 0;           // three occluder edges (traced as polylines)
   long long eeeSegments = 0;
   int eeeSurfacesTruncated = 0;  // tracing ended at its line budget (degenerate conics)
   double secondsEee = 0;
@@ -70,6 +71,10 @@ struct DmOptions {
   // occluders' projected edges passes over a third's inside the light). Off only to measure what
   // they add (tests, benchmarks).
   bool occluderEeeSurfaces = true;
+  // The fans through the points where an obstacle crosses the plane of a light edge and an
+  // occluder edge in line with it (SurfaceKind::kLightEdgeParallelEdgeCrossing). Off only to
+  // measure what they add (tests, benchmarks).
+  bool parallelEdgeCrossings = true;
   // Check every face's labels just inside its corners against those at its sample point. A face
   // where they differ is crossed by an event the mesh lacks (a missing event is a defect of the
   // mesh, counted in DmStats::unresolvedFaces); queries there compute the backprojection at the

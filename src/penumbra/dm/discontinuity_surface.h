@@ -46,6 +46,14 @@ enum class SurfaceKind {
   // visible light switches. A fan with the fixed source T through the first edge, restricted to
   // the lines that also meet the second (a contact).
   kLightEdgeCoplanarEdges,
+  // Degenerate EEE of a light edge, an occluder edge in one plane with it (parallel to it, as
+  // axis-aligned scenes have them everywhere) and another occluder's boundary crossing that plane
+  // at X: seen from the plane, the edge's projection lies along the light edge, and where X's
+  // projection bounds the visible part of it, the event ends. The lines of the plane through X
+  // meeting the light edge and the occluder edge: a fan with the fixed hinge X. (The light-vertex
+  // and light-edge EV fans of that plane hold only the lines through an end of either edge; with
+  // an obstacle between them, the rest of the event was lost.)
+  kLightEdgeParallelEdgeCrossing,
 };
 
 struct CriticalFan {
@@ -76,6 +84,9 @@ struct CriticalFan {
 struct SurfaceIntersection {
   PolygonId polygon = 0;
   Vec3 p0, p1;
+  // Whether the end is where the polygon's boundary crosses the fan's plane (else the fan's own
+  // bound clipped the segment there).
+  bool boundaryAt0 = false, boundaryAt1 = false;
 };
 
 struct DiscontinuitySurface {

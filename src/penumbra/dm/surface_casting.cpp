@@ -20,8 +20,8 @@ std::vector<Polygon3> boundedFan(const CriticalFan& fan, const Box3& sceneBounds
   return {{fan.source0, fan.source1, fan.hinge0}, {fan.hinge0, far1, far0}};
 }
 
-std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const Polygon3& convex) {
-  std::vector<std::pair<Vec3, Vec3>> out;
+std::vector<ConvexCut> intersectWithConvex(const Polygon3& p, const Polygon3& convex) {
+  std::vector<ConvexCut> out;
   const Vec3 n = normalize(newellNormal(convex));
   const Plane plane{n, dot(n, convex[0])};
   // Signs are exact against the convex polygon's first three vertices; zero counts as positive
@@ -61,7 +61,7 @@ std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const 
   // Inward edge normals of the convex polygon, in its plane.
   for (size_t k = 0; k + 1 < order.size(); k += 2) {
     Vec3 x0 = points[order[k]], x1 = points[order[k + 1]];
-    bool empty = false;
+    bool empty = false, boundary0 = true, boundary1 = true;
     for (size_t i = 0; i < convex.size() && !empty; ++i) {
       const Vec3& c = convex[i];
       const Vec3 inward = cross(n, convex[(i + 1) % convex.size()] - c);
@@ -69,11 +69,11 @@ std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const 
       if (d0 < 0 && d1 < 0)
         empty = true;
       else if (d0 < 0)
-        x0 = x0 + (x1 - x0) * (d0 / (d0 - d1));
+        x0 = x0 + (x1 - x0) * (d0 / (d0 - d1)), boundary0 = false;
       else if (d1 < 0)
-        x1 = x1 + (x0 - x1) * (d1 / (d1 - d0));
+        x1 = x1 + (x0 - x1) * (d1 / (d1 - d0)), boundary1 = false;
     }
-    if (!empty && !(x0 == x1)) out.push_back({x0, x1});
+    if (!empty && !(x0 == x1)) out.push_back({x0, x1, boundary0, boundary1});
   }
   return out;
 }
@@ -97,8 +97,8 @@ void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const U
   for (PolygonId id : candidates) {
     if (id == surface.light) continue;
     for (const Polygon3& piece : pieces)
-      for (const auto& [p0, p1] : intersectWithConvex(scene.polygons[id].vertices, piece))
-        surface.intersections.push_back({id, p0, p1});
+      for (const ConvexCut& cut : intersectWithConvex(scene.polygons[id].vertices, piece))
+        surface.intersections.push_back({id, cut.p0, cut.p1, cut.boundaryAt0, cut.boundaryAt1});
   }
 }
 

@@ -19,6 +19,11 @@ void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const U
 
 // The parts of polygon `p` inside the convex planar polygon `convex` (both planar): segments
 // along the line where their planes meet. Empty when they are coplanar or do not meet.
-std::vector<std::pair<Vec3, Vec3>> intersectWithConvex(const Polygon3& p, const Polygon3& convex);
+// Each end says whether p's boundary crosses the plane there (else the convex polygon clipped it).
+struct ConvexCut {
+  Vec3 p0, p1;
+  bool boundaryAt0 = true, boundaryAt1 = true;
+};
+std::vector<ConvexCut> intersectWithConvex(const Polygon3& p, const Polygon3& convex);
 
 }  // namespace penumbra

@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <set>
+#include <tuple>
 
 namespace penumbra {
 
@@ -418,6 +420,56 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
     s.hingePolygons.insert(s.hingePolygons.end(), second.polygons.begin(), second.polygons.end());
     s.fan = {t, t, a + e * u0, a + e * u1, {{c, d}}};
     surfaces.push_back(std::move(s));
+  }
+  return surfaces;
+}
+
+std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency,
+    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId) {
+  std::vector<DiscontinuitySurface> surfaces;
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const Polygon3& lv = lightPolygon.vertices;
+  const size_t n = lv.size();
+  // Both light vertices of a light edge have a fan of the same plane: each X once per pair.
+  std::set<std::tuple<int, int, double, double, double>> made;
+  for (const DiscontinuitySurface& fan : evSurfaces) {
+    if (fan.light != light || fan.kind != SurfaceKind::kEmitterVertexOccluderEdge) continue;
+    const SceneEdge& edge = adjacency.edges()[fan.occluderFeature];
+    const auto front = partInFront(adjacency, edge, lightPolygon.plane);
+    if (!front) continue;
+    const auto [a, b] = *front;
+    const size_t i = size_t(fan.lightFeature);
+    for (const size_t lightEdge : {(i + n - 1) % n, i}) {
+      const Vec3 &s0 = lv[lightEdge], &s1 = lv[(lightEdge + 1) % n];
+      if (orientation3d(s0, s1, adjacency.position(edge.a), adjacency.position(edge.b)) !=
+          Sign::kZero)
+        continue;
+      const Vec3 m = cross(s1 - s0, a - s0);  // the common plane
+      if (squaredLength(m) == 0) continue;    // the occluder edge on the light edge's line
+      for (const SurfaceIntersection& cut : fan.intersections) {
+        if (std::count(edge.polygons.begin(), edge.polygons.end(), cut.polygon)) continue;
+        for (int end = 0; end < 2; ++end) {
+          if (!(end == 0 ? cut.boundaryAt0 : cut.boundaryAt1)) continue;
+          const Vec3 x = end == 0 ? cut.p0 : cut.p1;
+          if (lightPolygon.plane.signedDistance(x) <= 0) continue;
+          if (!made.insert({int(lightEdge), fan.occluderFeature, x.x, x.y, x.z}).second) continue;
+          for (const auto& [w0, w1] : separatingRanges(s0, s1, x, a, b, m)) {
+            DiscontinuitySurface s;
+            s.id = firstId + SurfaceId(surfaces.size());
+            s.kind = SurfaceKind::kLightEdgeParallelEdgeCrossing;
+            s.light = light;
+            s.lightFeature = int(lightEdge);
+            s.occluderFeature = fan.occluderFeature;
+            s.secondFeature = cut.polygon;
+            s.hingePolygons = edge.polygons;
+            s.hingePolygons.push_back(cut.polygon);
+            s.fan = {s0 + (s1 - s0) * w0, s0 + (s1 - s0) * w1, x, x, {{a, b}}};
+            surfaces.push_back(std::move(s));
+          }
+        }
+      }
+    }
   }
   return surfaces;
 }

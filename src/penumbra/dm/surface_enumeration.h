@@ -48,6 +48,15 @@ struct CoplanarEdgePair {
 // fan from T through the first edge restricted to the lines that also meet the second
 // (SurfaceKind::kLightEdgeCoplanarEdges); the pairs come from the EEE enumeration, which finds
 // them where it finds the light-edge EEE surfaces (enumerateEeeSurfaces).
+// For every light-vertex EV fan (cast: its stored intersections filled) whose occluder edge lies
+// in one plane with a light edge at that vertex, and every point X where another polygon's
+// boundary crosses that plane (the ends of the fan's stored intersections), the lines of the plane
+// through X meeting the light edge and the occluder edge (SurfaceKind::
+// kLightEdgeParallelEdgeCrossing).
+std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency,
+    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId);
+
 std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
                                                        const EdgeAdjacency& adjacency,
                                                        const std::vector<CoplanarEdgePair>& pairs,
