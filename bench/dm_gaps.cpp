@@ -130,13 +130,14 @@ int main(int argc, char** argv) {
   }
   int listed = 20;
   bool slivers = false;
-  std::vector<int> edgesToShow, verticesToShow, polygonsToShow;
+  std::vector<int> edgesToShow, verticesToShow, polygonsToShow, surfacesToShow;
   for (int i = 2; i + 1 < argc; ++i) {
     if (!std::strcmp(argv[i], "--faces")) listed = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--slivers")) slivers = true;
     if (!std::strcmp(argv[i], "--edge")) edgesToShow.push_back(std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--vertex")) verticesToShow.push_back(std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--polygon")) polygonsToShow.push_back(std::atoi(argv[i + 1]));
+    if (!std::strcmp(argv[i], "--surface")) surfacesToShow.push_back(std::atoi(argv[i + 1]));
   }
   const Scene scene = loadScene(argv[1]);
   // NOVERIFY=1: every face answers from its labels, and the check of resolved faces below then
@@ -165,6 +166,23 @@ int main(int argc, char** argv) {
         std::printf("    on %d: (%.6f %.6f %.6f) - (%.6f %.6f %.6f)\n", piece.receiver, piece.p0.x,
                     piece.p0.y, piece.p0.z, piece.p1.x, piece.p1.y, piece.p1.z);
     }
+  }
+  for (int id : surfacesToShow) {
+    const DiscontinuitySurface& surface = engine.surfaces()[id];
+    const CriticalFan& f = surface.fan;
+    std::printf("surface %d kind %d: source (%.6f %.6f %.6f)-(%.6f %.6f %.6f) hinge (%.6f %.6f "
+                "%.6f)-(%.6f %.6f %.6f), hinge polygons",
+                id, int(surface.kind), f.source0.x, f.source0.y, f.source0.z, f.source1.x,
+                f.source1.y, f.source1.z, f.hinge0.x, f.hinge0.y, f.hinge0.z, f.hinge1.x,
+                f.hinge1.y, f.hinge1.z);
+    for (PolygonId p : surface.hingePolygons) std::printf(" %d", p);
+    std::printf("\n");
+    for (const SurfaceIntersection& cut : surface.intersections)
+      std::printf("  cut by %d: (%.6f %.6f %.6f) u %.6f s %.6f - (%.6f %.6f %.6f) u %.6f s %.6f\n",
+                  cut.polygon, cut.p0.x, cut.p0.y, cut.p0.z, f.criticalParameter(cut.p0),
+                  f.depthParameter(cut.p0, f.criticalParameter(cut.p0)), cut.p1.x, cut.p1.y,
+                  cut.p1.z, f.criticalParameter(cut.p1),
+                  f.depthParameter(cut.p1, f.criticalParameter(cut.p1)));
   }
   for (int id : polygonsToShow) {
     std::printf("polygon %d:", id);

@@ -27,6 +27,18 @@ std::optional<Hit> lineHit(const CriticalFan& fan, const Vec3& n, double u, cons
   return Hit{x, fan.depthParameter(x, u)};
 }
 
+// Where L(u) meets the line of segment [p0, p1] (both in the fan plane), clamped to the segment;
+// p0 when they are parallel.
+Vec3 landing(const CriticalFan& fan, const Vec3& n, double u, const Vec3& p0, const Vec3& p1) {
+  const Vec3 s = fan.source(u);
+  const Vec3 d = fan.hinge(u) - s;
+  const Vec3 e = p1 - p0;
+  const double denominator = dot(n, cross(e, d));
+  if (denominator == 0) return p0;
+  const double lambda = std::clamp(dot(n, cross(s - p0, d)) / denominator, 0.0, 1.0);
+  return p0 + e * lambda;
+}
+
 bool isHinge(const DiscontinuitySurface& surface, PolygonId polygon) {
   return std::find(surface.hingePolygons.begin(), surface.hingePolygons.end(), polygon) !=
          surface.hingePolygons.end();
@@ -88,12 +100,12 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
       }
     }
     if (blocked || !nearest || nearestDepth <= hinge * (1 + kHingeDepthTolerance)) continue;
-    const auto h0 = lineHit(fan, n, u0, nearest->p0, nearest->p1);
-    const auto h1 = lineHit(fan, n, u1, nearest->p0, nearest->p1);
-    const Vec3 x0 =
-        h0 ? h0->point : (fan.criticalParameter(nearest->p0) < mid ? nearest->p0 : nearest->p1);
-    const Vec3 x1 =
-        h1 ? h1->point : (fan.criticalParameter(nearest->p0) < mid ? nearest->p1 : nearest->p0);
+    // The interval's ends lie on the receiver's segment up to rounding: where the line there
+    // misses it by a rounding, its nearest end is meant (choosing an end by comparing critical
+    // parameters picked the far one for an interval 1e-14 wide, and the event on a desk under a
+    // lamp's base shrank to a point).
+    const Vec3 x0 = landing(fan, n, u0, nearest->p0, nearest->p1);
+    const Vec3 x1 = landing(fan, n, u1, nearest->p0, nearest->p1);
     if (distance(x0, x1) == 0) continue;
     if (!out.empty() && out.back().receiver == nearest->polygon && out.back().u1 == u0 &&
         out.back().p1 == x0) {
