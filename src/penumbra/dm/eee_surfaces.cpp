@@ -510,7 +510,8 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     }
     const Edge3 lightEdge{lv[l], lv[(l + 1) % lv.size()]};
     // An occluder edge coplanar with the light edge (e.g. parallel to it) makes the lines one
-    // plane: the EV fans of that plane already hold the event.
+    // plane: the EV fans of that plane and the fans through the obstacles crossing it
+    // (parallelEdgeCrossingSurfaces) hold the event.
     if (orientation3d(lightEdge.a, lightEdge.b, first.a, first.b) == Sign::kZero ||
         orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
       return;

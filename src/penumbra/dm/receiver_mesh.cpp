@@ -282,6 +282,7 @@ void snapNearlyCollinear(std::vector<Piece>& pieces, double tolerance) {
 
 void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance) {
   std::vector<Piece> pieces;
+  std::vector<const DiscontinuitySegment*> sources;  // the segment each piece comes from
   pieces.reserve(segments.size());
   std::map<std::array<double, 3>, int> ends;
   const auto key = [](const Vec3& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
@@ -289,17 +290,15 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
     const Point a = impl_->toPoint(s.p0), b = impl_->toPoint(s.p1);
     if (a == b) continue;
     pieces.push_back({a, b, s.surface, false});
+    sources.push_back(&s);
     if (snapTolerance > 0) {
       ++ends[key(s.p0)];
       ++ends[key(s.p1)];
     }
   }
   if (snapTolerance > 0) {
-    size_t k = 0;
-    for (const DiscontinuitySegment& s : segments) {
-      if (impl_->toPoint(s.p0) == impl_->toPoint(s.p1)) continue;
-      pieces[k++].isJoined = ends[key(s.p0)] > 1 || ends[key(s.p1)] > 1;
-    }
+    for (size_t k = 0; k < pieces.size(); ++k)
+      pieces[k].isJoined = ends[key(sources[k]->p0)] > 1 || ends[key(sources[k]->p1)] > 1;
     for (const Traits::Curve_2& edge : impl_->boundary)
       pieces.push_back({edge.source(), edge.target(), kBoundary, true});
     snapNearlyCollinear(pieces, snapTolerance);

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <optional>
-#include <set>
 #include <tuple>
 
 namespace penumbra {
@@ -427,12 +427,21 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
 std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
     const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId) {
-  std::vector<DiscontinuitySurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   const size_t n = lv.size();
-  // Both light vertices of a light edge have a fan of the same plane: each X once per pair.
-  std::set<std::tuple<int, int, double, double, double>> made;
+  // The points X of each (light edge, occluder edge) plane. Both light vertices of the light edge
+  // have a fan of that plane, and each finds X against its own bounded fan, a rounding apart; an
+  // edge crossing the plane gives X once for each of its polygons. One fan per X, with all of
+  // them as hinge polygons (a polygon through X left out would cut the lines there).
+  struct Crossing {
+    size_t lightEdge = 0;
+    EdgeId edge = 0;
+    Vec3 x, a, b;
+    std::vector<PolygonId> polygons;
+  };
+  const double apart = 1e-9 * scene.bounds.diagonalLength();
+  std::map<std::tuple<size_t, EdgeId, long long, long long, long long>, Crossing> crossings;
   for (const DiscontinuitySurface& fan : evSurfaces) {
     if (fan.light != light || fan.kind != SurfaceKind::kEmitterVertexOccluderEdge) continue;
     const SceneEdge& edge = adjacency.edges()[fan.occluderFeature];
@@ -445,30 +454,39 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
       if (orientation3d(s0, s1, adjacency.position(edge.a), adjacency.position(edge.b)) !=
           Sign::kZero)
         continue;
-      const Vec3 m = cross(s1 - s0, a - s0);  // the common plane
-      if (squaredLength(m) == 0) continue;    // the occluder edge on the light edge's line
+      if (squaredLength(cross(s1 - s0, a - s0)) == 0) continue;  // on the light edge's line
       for (const SurfaceIntersection& cut : fan.intersections) {
         if (std::count(edge.polygons.begin(), edge.polygons.end(), cut.polygon)) continue;
         for (int end = 0; end < 2; ++end) {
           if (!(end == 0 ? cut.boundaryAt0 : cut.boundaryAt1)) continue;
           const Vec3 x = end == 0 ? cut.p0 : cut.p1;
           if (lightPolygon.plane.signedDistance(x) <= 0) continue;
-          if (!made.insert({int(lightEdge), fan.occluderFeature, x.x, x.y, x.z}).second) continue;
-          for (const auto& [w0, w1] : separatingRanges(s0, s1, x, a, b, m)) {
-            DiscontinuitySurface s;
-            s.id = firstId + SurfaceId(surfaces.size());
-            s.kind = SurfaceKind::kLightEdgeParallelEdgeCrossing;
-            s.light = light;
-            s.lightFeature = int(lightEdge);
-            s.occluderFeature = fan.occluderFeature;
-            s.secondFeature = cut.polygon;
-            s.hingePolygons = edge.polygons;
-            s.hingePolygons.push_back(cut.polygon);
-            s.fan = {s0 + (s1 - s0) * w0, s0 + (s1 - s0) * w1, x, x, {{a, b}}};
-            surfaces.push_back(std::move(s));
-          }
+          Crossing& c =
+              crossings[{lightEdge, EdgeId(fan.occluderFeature), std::llround(x.x / apart),
+                         std::llround(x.y / apart), std::llround(x.z / apart)}];
+          if (c.polygons.empty()) c = {lightEdge, EdgeId(fan.occluderFeature), x, a, b, {}};
+          if (!std::count(c.polygons.begin(), c.polygons.end(), cut.polygon))
+            c.polygons.push_back(cut.polygon);
         }
       }
+    }
+  }
+  std::vector<DiscontinuitySurface> surfaces;
+  for (const auto& [key, c] : crossings) {
+    const Vec3 &s0 = lv[c.lightEdge], &s1 = lv[(c.lightEdge + 1) % n];
+    const Vec3 m = cross(s1 - s0, c.a - s0);  // the common plane
+    for (const auto& [w0, w1] : separatingRanges(s0, s1, c.x, c.a, c.b, m)) {
+      DiscontinuitySurface s;
+      s.id = firstId + SurfaceId(surfaces.size());
+      s.kind = SurfaceKind::kLightEdgeParallelEdgeCrossing;
+      s.light = light;
+      s.lightFeature = int(c.lightEdge);
+      s.occluderFeature = c.edge;
+      s.secondFeature = c.polygons.front();
+      s.hingePolygons = adjacency.edges()[c.edge].polygons;
+      s.hingePolygons.insert(s.hingePolygons.end(), c.polygons.begin(), c.polygons.end());
+      s.fan = {s0 + (s1 - s0) * w0, s0 + (s1 - s0) * w1, c.x, c.x, {{c.a, c.b}}};
+      surfaces.push_back(std::move(s));
     }
   }
   return surfaces;
