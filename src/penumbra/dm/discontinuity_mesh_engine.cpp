@@ -168,24 +168,26 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   };
   const std::vector<PolygonId> eeeLights =
       options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
-  std::vector<DiscontinuitySurface> coplanar;
+  // Planar surfaces made from what casting found: parallel-edge crossings and coplanar edges.
+  std::vector<DiscontinuitySurface> afterCasting;
   for (PolygonId light : options_.parallelEdgeCrossings ? scene.lights : std::vector<PolygonId>{})
-    for (DiscontinuitySurface& s : parallelEdgeCrossingSurfaces(
-             scene, *adjacency_, surfaces_, light, SurfaceId(surfaces_.size() + coplanar.size())))
-      coplanar.push_back(std::move(s));
-  stats_.surfacesParallelEdgeCrossing = int(coplanar.size());
+    for (DiscontinuitySurface& s :
+         parallelEdgeCrossingSurfaces(scene, *adjacency_, surfaces_, light,
+                                      SurfaceId(surfaces_.size() + afterCasting.size())))
+      afterCasting.push_back(std::move(s));
+  stats_.surfacesParallelEdgeCrossing = int(afterCasting.size());
   for (PolygonId light : eeeLights) {
     std::vector<CoplanarEdgePair> pairs;
     for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs))
       eeeSurfaces_.push_back(std::move(s));
     for (DiscontinuitySurface& s : coplanarEdgeSurfaces(
-             scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + coplanar.size())))
-      coplanar.push_back(std::move(s));
+             scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + afterCasting.size())))
+      afterCasting.push_back(std::move(s));
   }
   // The parallel-edge and coplanar-edge fans are planar surfaces like the EV ones (made from the
   // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
   // numbered after them; the EEE surfaces are numbered after all planar ones.
-  for (DiscontinuitySurface& s : coplanar) {
+  for (DiscontinuitySurface& s : afterCasting) {
     castSurface(s, scene, *grid_);
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
@@ -196,7 +198,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
     }
     surfaces_.push_back(std::move(s));
   }
-  stats_.surfacesCoplanarEdges = int(coplanar.size()) - stats_.surfacesParallelEdgeCrossing;
+  stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing;
   for (size_t k = 0; k < eeeSurfaces_.size(); ++k)
     eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the
@@ -400,8 +402,8 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
   }
 
   for (const FaceData& faceData : data.faces) {
-    for (const Backprojection& bp :
-         faceData.sliver ? std::vector<Backprojection>{} : faceData.perLight) {
+    for (const Backprojection& bp : faceData.perLight) {
+      if (faceData.sliver) break;  // no labels computed
       stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
       for (const auto& cycle : bp.cycles) {
         stats_.backprojectionVertices += (long long)cycle.size();
