@@ -24,30 +24,32 @@ std::vector<ConvexCut> intersectWithConvex(const Polygon3& p, const Polygon3& co
   std::vector<ConvexCut> out;
   const Vec3 n = normalize(newellNormal(convex));
   const Plane plane{n, dot(n, convex[0])};
-  // Signs are exact against the convex polygon's first three vertices; zero counts as positive
-  // (symbolic perturbation), so a vertex on the plane is crossed once, never twice.
-  const auto side = [&](const Vec3& v) {
-    return orientation3d(convex[0], convex[1], convex[2], v) == Sign::kNegative ? -1 : 1;
-  };
   const Vec3 direction = cross(n, newellNormal(p));
   if (squaredLength(direction) == 0) return out;  // parallel or coplanar
+  // Signs are exact against the convex polygon's first three vertices.
+  std::vector<Sign> signs;
+  signs.reserve(p.size());
+  bool below = false, above = false;
+  for (const Vec3& v : p) {
+    signs.push_back(orientation3d(convex[0], convex[1], convex[2], v));
+    below = below || signs.back() == Sign::kNegative;
+    above = above || signs.back() == Sign::kPositive;
+  }
   // A polygon that only touches the plane (an edge or a vertex on it, the rest on one side) is
   // grazed, not crossed, by the plane's lines: it neither hides an event nor receives one (a
   // shelf whose edge lies in a fan's plane stopped the event there, and the wall behind, lit
   // past that edge, lost it).
-  bool below = false, above = false;
-  for (const Vec3& v : p) {
-    const Sign sign = orientation3d(convex[0], convex[1], convex[2], v);
-    below = below || sign == Sign::kNegative;
-    above = above || sign == Sign::kPositive;
-  }
   if (!below || !above) return out;
+  // Zero counts as positive (symbolic perturbation), so a vertex on the plane is crossed once,
+  // never twice.
+  const auto negative = [&](size_t i) { return signs[i] == Sign::kNegative; };
   std::vector<double> crossings;
   std::vector<Vec3> points;
   for (size_t i = 0; i < p.size(); ++i) {
+    const size_t j = (i + 1) % p.size();
     const Vec3& a = p[i];
-    const Vec3& b = p[(i + 1) % p.size()];
-    if (side(a) == side(b)) continue;
+    const Vec3& b = p[j];
+    if (negative(i) == negative(j)) continue;
     const double da = plane.signedDistance(a), db = plane.signedDistance(b);
     const double t = da == db ? 0.5 : da / (da - db);
     const Vec3 x = a + (b - a) * std::clamp(t, 0.0, 1.0);
