@@ -8,6 +8,7 @@
 #include <optional>
 #include <unordered_set>
 
+#include "penumbra/dm/parameter_ranges.h"
 #include "penumbra/geometry/predicates.h"
 
 namespace penumbra {
@@ -68,22 +69,6 @@ std::optional<double> throughPoint(const Edge3& along, const Vec3& v, const Edge
   const double t = dot(m, other.a - along.a) / denominator;
   if (t > 0 && t < 1) return t;
   return std::nullopt;
-}
-
-// The sorted breaks, merged into ranges where `exists` holds at their middles.
-template <class Exists>
-std::vector<std::array<double, 2>> rangesBetween(std::vector<double> breaks, Exists&& exists) {
-  std::sort(breaks.begin(), breaks.end());
-  std::vector<std::array<double, 2>> ranges;
-  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
-    if (breaks[k + 1] <= breaks[k]) continue;
-    if (!exists(0.5 * (breaks[k] + breaks[k + 1]))) continue;
-    if (!ranges.empty() && ranges.back()[1] == breaks[k])
-      ranges.back()[1] = breaks[k + 1];
-    else
-      ranges.push_back({breaks[k], breaks[k + 1]});
-  }
-  return ranges;
 }
 
 // The t-ranges of the light edge where critical lines exist. Existence only changes where a line

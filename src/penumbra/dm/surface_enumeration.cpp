@@ -1,5 +1,6 @@
 #include "penumbra/dm/surface_enumeration.h"
 
+#include "penumbra/dm/parameter_ranges.h"
 #include "penumbra/geometry/predicates.h"
 
 #include <algorithm>
@@ -50,67 +51,46 @@ std::optional<std::array<Vec3, 2>> lightTrace(const Polygon3& light, const Vec3&
   return std::array<Vec3, 2>{*lo, *hi};
 }
 
-// The ranges of w in [0, 1] where the line through S(w) = s0 + w (s1 − s0) and v separates a
-// from b in their common plane (normal m): where g_a(w) g_b(w) <= 0 for the affine orientations
-// g_x(w) = m · ((v − S(w)) × (x − v)).
-std::vector<std::array<double, 2>> separatingRanges(const Vec3& s0, const Vec3& s1, const Vec3& v,
-                                                    const Vec3& a, const Vec3& b, const Vec3& m) {
+// The ranges of w in [0, 1] where `holds` is true of the sides g(x, w) = m · ((pivot − S(w)) ×
+// (x − pivot)) of the points x against the line through S(w) = s0 + w (s1 − s0) and the pivot, in
+// their common plane (normal m). Each side is affine in w, so it changes only where it is zero.
+template <class Holds>
+std::vector<std::array<double, 2>> sideRanges(const Vec3& pivot, const Vec3& s0, const Vec3& s1,
+                                              const Vec3& m, const std::vector<Vec3>& points,
+                                              Holds&& holds) {
   const auto g = [&](const Vec3& x, double w) {
-    return dot(m, cross(v - (s0 + (s1 - s0) * w), x - v));
+    return dot(m, cross(pivot - (s0 + (s1 - s0) * w), x - pivot));
   };
   std::vector<double> breaks{0, 1};
-  for (const Vec3& x : {a, b}) {
+  for (const Vec3& x : points) {
     const double g0 = g(x, 0), g1 = g(x, 1);
-    if (g0 != g1) {
-      const double r = g0 / (g0 - g1);
-      if (r > 0 && r < 1) breaks.push_back(r);
-    }
+    if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1) breaks.push_back(g0 / (g0 - g1));
   }
-  std::sort(breaks.begin(), breaks.end());
-  std::vector<std::array<double, 2>> ranges;
-  for (size_t k = 0; k + 1 < breaks.size(); ++k) {
-    const double w = 0.5 * (breaks[k] + breaks[k + 1]);
-    if (breaks[k + 1] <= breaks[k] || g(a, w) * g(b, w) > 0) continue;
-    if (!ranges.empty() && ranges.back()[1] == breaks[k])
-      ranges.back()[1] = breaks[k + 1];
-    else
-      ranges.push_back({breaks[k], breaks[k + 1]});
-  }
-  return ranges;
+  std::vector<double> sides(points.size());
+  return rangesBetween(std::move(breaks), [&](double w) {
+    for (size_t k = 0; k < points.size(); ++k) sides[k] = g(points[k], w);
+    return holds(sides);
+  });
 }
 
-// The ranges of w in [0, 1] where the line of a polygon's plane (normal m) through the light's
-// trace point S(w) = t0 + (t1 - t0) w and `pivot` passes through the polygon (its vertices on both
-// sides; `through`) or only touches it at the pivot (all on one side). Each vertex's side changes
-// once, where g(v, w), linear in w, is zero.
+// The ranges where the line through S(w) and v separates a from b (g_a g_b <= 0).
+std::vector<std::array<double, 2>> separatingRanges(const Vec3& s0, const Vec3& s1, const Vec3& v,
+                                                    const Vec3& a, const Vec3& b, const Vec3& m) {
+  return sideRanges(v, s0, s1, m, {a, b},
+                    [](const std::vector<double>& g) { return g[0] * g[1] <= 0; });
+}
+
+// The ranges where the line of a polygon's plane (normal m) through the light's trace point S(w)
+// and `pivot` passes through the polygon (its vertices on both sides; `through`) or only touches
+// it at the pivot (all on one side).
 std::vector<std::array<double, 2>> pivotRanges(const Vec3& pivot, const Vec3& t0, const Vec3& t1,
                                                const Vec3& m, const Polygon3& vertices,
                                                bool through) {
-  const auto g = [&](const Vec3& v, double w) {
-    return dot(m, cross(pivot - (t0 + (t1 - t0) * w), v - pivot));
-  };
-  std::vector<double> breaks{0, 1};
-  for (const Vec3& v : vertices) {
-    const double g0 = g(v, 0), g1 = g(v, 1);
-    if (g0 != g1 && g0 / (g0 - g1) > 0 && g0 / (g0 - g1) < 1) breaks.push_back(g0 / (g0 - g1));
-  }
-  std::sort(breaks.begin(), breaks.end());
-  std::vector<std::array<double, 2>> ranges;
-  for (size_t r = 0; r + 1 < breaks.size(); ++r) {
-    if (breaks[r + 1] <= breaks[r]) continue;
-    const double w = 0.5 * (breaks[r] + breaks[r + 1]);
-    bool below = false, above = false;
-    for (const Vec3& v : vertices) {
-      below = below || g(v, w) < 0;
-      above = above || g(v, w) > 0;
-    }
-    if ((below && above) != through) continue;
-    if (!ranges.empty() && ranges.back()[1] == breaks[r])
-      ranges.back()[1] = breaks[r + 1];
-    else
-      ranges.push_back({breaks[r], breaks[r + 1]});
-  }
-  return ranges;
+  return sideRanges(pivot, t0, t1, m, vertices, [&](const std::vector<double>& g) {
+    const bool below = std::any_of(g.begin(), g.end(), [](double x) { return x < 0; });
+    const bool above = std::any_of(g.begin(), g.end(), [](double x) { return x > 0; });
+    return (below && above) == through;
+  });
 }
 
 }  // namespace
