@@ -66,6 +66,9 @@ void run(const std::string& path, double tolerance, bool furnace, bool elementSh
       mib(s.elementBytes), mib(s.activeLinkBytes), mib(s.passiveLinkBytes), mib(s.shaftBytes),
       mib(s.totalBytes()), s.totalSeconds, s.refineSeconds, s.solveSeconds,
       absorbed.average() / emitted.average());
+  std::printf(
+      "  final gather %.3f s: %lld rays, %lld met a back face or nothing; %d Jacobi iterations\n",
+      s.finalGatherSeconds, s.finalGatherRays, s.finalGatherMisses, s.finalIterations);
   if (furnace) {
     // M/(1−ρ) holds only where every direction meets the front of a polygon. Near a one-sided
     // lamp 1 cm below the ceiling the ceiling sees the lamp's back, which has no radiosity in the

@@ -131,6 +131,7 @@ struct FurnaceResult {
   double directError = 0;         // |area mean of the direct part − M| / M
   double balanceError = 0;        // |absorbed / emitted − 1|
   double areaWithin1Percent = 0;  // share of the leaf area where E is within 1% of M/(1−ρ)
+  double largestError = 0;        // largest |E − M/(1−ρ)| / (M/(1−ρ)) over the leaves
   // The same for the solution's leaf irradiance (the mean pushed down from the links above),
   // before the final gather.
   double solutionAreaWithin1Percent = 0;
@@ -145,7 +146,7 @@ FurnaceResult solveFurnace(const Scene& scene, double rho, const RadiosityOption
   RadiositySolver solver(options);
   solver.build(scene, 0);
   const double expected = 1 / (1 - rho);
-  double sum = 0, direct = 0, area = 0, within = 0, solutionWithin = 0;
+  double sum = 0, direct = 0, area = 0, within = 0, solutionWithin = 0, largest = 0;
   for (const Element& e : solver.elements())
     if (e.isLeaf()) {
       const double solution =
@@ -157,6 +158,7 @@ FurnaceResult solveFurnace(const Scene& scene, double rho, const RadiosityOption
       direct += e.radiometry.finalDirect.average() * e.area;
       area += e.area;
       if (std::abs(irradiance - expected) <= 0.01 * expected) within += e.area;
+      largest = std::max(largest, std::abs(irradiance - expected) / expected);
     }
   FurnaceResult result;
   result.meanError = std::abs(sum / area - expected) / expected;
@@ -164,13 +166,15 @@ FurnaceResult solveFurnace(const Scene& scene, double rho, const RadiosityOption
   result.balanceError =
       std::abs(solver.absorbedPower().average() / solver.emittedPower().average() - 1);
   result.areaWithin1Percent = within / area;
+  result.largestError = largest;
   result.solutionAreaWithin1Percent = solutionWithin / area;
   result.links = solver.stats().links;
   std::printf(
       "tolerance %7.0e links %8lld  mean E error %.5f  direct error %.5f  absorbed/emitted "
-      "error %.5f  area within 1%%: %.3f (solution before the final gather: %.3f)\n",
+      "error %.5f  area within 1%%: %.3f (hierarchical solution: %.3f)  largest leaf error "
+      "%.2e\n",
       tolerance, result.links, result.meanError, result.directError, result.balanceError,
-      result.areaWithin1Percent, result.solutionAreaWithin1Percent);
+      result.areaWithin1Percent, result.solutionAreaWithin1Percent, result.largestError);
   return result;
 }
 FurnaceResult solveFurnace(const Scene& scene, double rho, double tolerance) {
@@ -194,55 +198,59 @@ TEST(RadiositySolver, FurnaceInEmptyRoom) {
 }
 
 // The chair room (227 polygons): furniture standing on the floor, doors glued on a sideboard,
-// shelves in contact with their sides, partial visibility everywhere. 1% is the target of the
-// issue; the error must shrink as the tolerance does (measured: see the issue note).
+// shelves in contact with their sides, partial visibility everywhere. The issue's target: M/(1−ρ)
+// everywhere to 1%. What is shown is the final solution (final_gather.cpp): at every leaf point
+// the element sources' exact visible form factors, and what they leave of the hemisphere split by
+// rays among the cluster sources' surfaces, so a point's transfers sum to 1 in a closed scene.
+// Measured: at 1e-3, 98.97% of the area within 1% (one sideboard leaf 4.4% low); at 3e-4 every
+// leaf within 1e-5 of 2.
 TEST(RadiositySolver, FurnaceInChairRoom) {
   const Scene scene = furnace("chair-room/chair-room.json", 0.5);
   const FurnaceResult coarse = solveFurnace(scene, 0.5, 1e-3);
   const FurnaceResult fine = solveFurnace(scene, 0.5, 3e-4);
   for (const FurnaceResult& r : {coarse, fine}) {
-    EXPECT_LT(r.meanError, 0.01);
-    EXPECT_LT(r.balanceError, 0.01);
+    EXPECT_LT(r.meanError, 1e-3);
+    EXPECT_LT(r.balanceError, 1e-3);
   }
-  // Pointwise, the error shrinks with the tolerance (measured: 47.1% of the area within 1% at
-  // 1e-3, 65.5% at 3e-4). The area means are both within 0.3% and do not order reliably: at
-  // 1e-3 the leaves' errors of either sign happen to cancel to 0.004%.
-  EXPECT_GT(fine.areaWithin1Percent, coarse.areaWithin1Percent + 0.05);
+  EXPECT_GT(coarse.areaWithin1Percent, 0.985);
+  EXPECT_GT(fine.areaWithin1Percent, 0.99);
+  EXPECT_LT(fine.largestError, 0.01);
+  EXPECT_LT(fine.largestError, coarse.largestError);
+  // The hierarchical solution that drove refinement (each leaf the mean its ancestors' links
+  // pushed down) tightens with the tolerance (measured 44.8% of the area within 1% at 1e-3, 64.5%
+  // at 3e-4): that is what the refinement oracles control.
+  EXPECT_GT(fine.solutionAreaWithin1Percent, coarse.solutionAreaWithin1Percent + 0.05);
   EXPECT_GT(fine.links, coarse.links);
-  // The final gather shows more of the area within 1% than the solution's pushed means (44.8%
-  // and 64.5%): leaves take their own form factors to the sources linked above them.
-  for (const FurnaceResult& r : {coarse, fine})
-    EXPECT_GT(r.areaWithin1Percent, r.solutionAreaWithin1Percent);
 }
 
-// Exact visibility against rays, side by side: with exact visible form factors at the receiver
-// points a point's transfers sum to 1 whatever hides what, where 16 rays per link leave each
-// partly hidden link's visibility off by about 0.1 of its transfer (measured in the Cornell box
-// without its lamp at 1e-3: 94.3% of the area within 1% against 71.8%; leaves in [1.94, 2.06]
-// against [1.86, 2.12]).
+// Exact visibility against rays in the links, side by side: with exact visible form factors at
+// the receiver points the hierarchical solution's transfers sum to 1 at those points, where 16
+// rays per link leave each partly hidden link's visibility off by about 0.1 of its transfer
+// (measured in the Cornell box without its lamp at 1e-3: 93.6% of the solution's area within 1%
+// against 67.1%). The final solution is exact in the furnace either way.
 TEST(RadiositySolver, ExactVisibilityTightensTheFurnace) {
   const Scene scene = furnace("cornell-box/cornell-box.json", 0.5);
   RadiosityOptions exactOptions = withTolerance(1e-3);
   exactOptions.exactVisibility = true;
   const FurnaceResult exact = solveFurnace(scene, 0.5, exactOptions);
   const FurnaceResult sampled = solveFurnace(scene, 0.5, 1e-3);
-  EXPECT_GT(exact.areaWithin1Percent, 0.9);
-  EXPECT_GT(exact.areaWithin1Percent, sampled.areaWithin1Percent + 0.15);
-  EXPECT_LT(exact.meanError, 0.002);
-  // With exact visibility the final gather also takes the visible fraction of the leaf's cell
-  // of an ancestor's link (measured 94.3% against 93.6% before it; rays 71.8% against 67.1%).
-  EXPECT_GT(exact.areaWithin1Percent, exact.solutionAreaWithin1Percent);
-  EXPECT_GT(sampled.areaWithin1Percent, sampled.solutionAreaWithin1Percent);
+  EXPECT_GT(exact.solutionAreaWithin1Percent, 0.9);
+  EXPECT_GT(exact.solutionAreaWithin1Percent, sampled.solutionAreaWithin1Percent + 0.15);
+  for (const FurnaceResult& r : {exact, sampled}) {
+    EXPECT_LT(r.meanError, 1e-3);
+    EXPECT_LT(r.largestError, 0.01);
+  }
 }
 
 // The furnished room (1,300 polygons: desks, drawers with handles, bookshelves 1 cm off the
-// walls, chairs). At 1e-3 the solution absorbs 1.04% more than is emitted (energy created,
-// cause not found: see docs/radiosity.md, known limits; with the lamp in, its dark patch on the
-// ceiling hid this), and the final gather's area mean is 0.54% high; at 3e-4, 0.83% and 0.57%.
+// walls, chairs) at 3e-4. Measured: mean and balance within 1e-5, 99.99% of the area within 1%
+// (the hierarchical solution that drove refinement: 42.2%, and it absorbed 0.83% more than was
+// emitted), the worst leaf 6.4% off.
 TEST(RadiositySolver, FurnaceInFurnishedRoom) {
   const FurnaceResult r = solveFurnace(furnace("chair-room/furnished-room.json", 0.5), 0.5, 3e-4);
-  EXPECT_LT(r.meanError, 0.01);
-  EXPECT_LT(r.balanceError, 0.01);
+  EXPECT_LT(r.meanError, 1e-3);
+  EXPECT_LT(r.balanceError, 1e-3);
+  EXPECT_GT(r.areaWithin1Percent, 0.99);
 }
 
 // Small objects in a furnace: a crate on the floor (its bottom in contact, seeing only the floor),
@@ -311,6 +319,18 @@ TEST(RadiositySolver, EnergyBalanceInChairRoomWithElementShares) {
   RadiosityOptions options = withTolerance(1e-3);
   options.elementSourceShares = true;
   RadiositySolver solver(options);
+  solver.build(loadScene(scenePath("chair-room/chair-room.json")), 0);
+  const double balance = solver.absorbedPower().average() / solver.emittedPower().average();
+  std::printf("links %lld absorbed / emitted %.4f\n", solver.stats().links, balance);
+  EXPECT_NEAR(balance, 1, 0.01);
+}
+
+// The chair room under its lamp with the default options: the final solution gathers the
+// partly hidden sources by rays, which take the radiosity of the leaf they meet, so the part of a
+// wall hidden from a receiver, often the part in shadow, is not sent at the wall's mean radiosity
+// (the hierarchical solution lost 3% that way: absorbed / emitted 0.971). Measured 0.994.
+TEST(RadiositySolver, EnergyBalanceInChairRoom) {
+  RadiositySolver solver(withTolerance(1e-3));
   solver.build(loadScene(scenePath("chair-room/chair-room.json")), 0);
   const double balance = solver.absorbedPower().average() / solver.emittedPower().average();
   std::printf("links %lld absorbed / emitted %.4f\n", solver.stats().links, balance);

@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/base/split_mix.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
@@ -36,23 +37,6 @@
 namespace penumbra {
 
 namespace {
-
-// SplitMix64 (Steele, Lea & Flood 2014): a tiny seeded generator; one per link keeps the
-// estimates independent of the order links are refined in.
-class SplitMix {
- public:
-  explicit SplitMix(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-
- private:
-  std::uint64_t state_;
-};
 
 std::uint64_t linkSeed(std::uint64_t seed, NodeRef r, NodeRef s) {
   SplitMix mix(seed ^ (std::uint64_t(r.index) << 1 | r.kind) * 0x100000001b3ull ^
@@ -460,28 +444,34 @@ std::vector<PolygonId> RadiositySolver::shaftOccluders(const Element& receiver,
 // 16 grandchild centres, each visible form factor exact (the source clipped by the projections of
 // the shaft's polygons from that point). No noise: a closed scene's visible form factors from a
 // point sum to 1, which the rays' estimate only did on average.
-void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, const Element& se) {
+double RadiositySolver::visibleTransfer(const Vec3& x, const Vec3& normal, PolygonId receiver,
+                                        const Element& source, std::span<const PolygonId> occluders,
+                                        double unoccluded) {
   constexpr double kWhollyVisible = 1e-9;
+  if (occluders.empty()) return unoccluded;
+  ++stats_.exactVisibilityPoints;
+  const double v = visibleParts_->visibleFormFactor(
+      x, normal, loopOf(source), Plane::fromPointNormal(source.vertices[0], source.normal),
+      source.polygon, occluders, receiver);
+  // The clipped region's vertices are rounded to a 2^-60 grid of the source: a wholly visible
+  // source must read as wholly visible (the link oracle refines partial ones).
+  if (v > unoccluded * (1 - kWhollyVisible)) return unoccluded;
+  if (v < unoccluded * kWhollyVisible) return 0;
+  return v;
+}
+
+void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, const Element& se) {
   link.pointVisibleTransfers.clear();
   const std::vector<PolygonId> occluders = shaftOccluders(re, se);
   if (occluders.empty() && contacts_[re.polygon].empty()) {
     link.visibility = 1;
     return;
   }
-  const Polygon3 source = loopOf(se);
-  const Plane sourcePlane = Plane::fromPointNormal(se.vertices[0], se.normal);
   // The form factor and exact visible form factor at x.
   const auto atPoint = [&](const Vec3& x) -> std::pair<double, double> {
     const double f = pointToElement(x, re.normal, se);
     if (!(f > 0) || isCovered(re.polygon, x)) return {f, 0.0};
-    ++stats_.exactVisibilityPoints;
-    const double v = visibleParts_->visibleFormFactor(x, re.normal, source, sourcePlane, se.polygon,
-                                                      occluders, re.polygon);
-    // The clipped region's vertices are rounded to a 2^-60 grid of the source: a wholly visible
-    // source must read as wholly visible (the link oracle refines partial ones).
-    if (v > f * (1 - kWhollyVisible)) return {f, f};
-    if (v < f * kWhollyVisible) return {f, 0.0};
-    return {f, v};
+    return {f, visibleTransfer(x, re.normal, re.polygon, se, occluders, f)};
   };
   double unoccluded = 0, visible = 0;
   link.pointVisibleTransfers.resize(16);
@@ -537,6 +527,10 @@ double RadiositySolver::unoccludedPointTransfer(const Link& link, const Vec3& x,
       f += pointToElement(x, normal, elements_[rootOrder_[i]]);
   }
   return f;
+}
+
+double RadiositySolver::pointFormFactor(const Vec3& x, const Vec3& normal, const Element& e) const {
+  return pointToElement(x, normal, e);
 }
 
 double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal,

@@ -263,8 +263,7 @@ Rgb RadiositySolver::absorbedPower() const {
   for (const Element& e : elements_)
     if (e.isLeaf()) {
       const Rgb absorptance{1 - e.reflectance.r, 1 - e.reflectance.g, 1 - e.reflectance.b};
-      power +=
-          absorptance * (e.radiometry.irradianceDirect + e.radiometry.irradianceIndirect) * e.area;
+      power += absorptance * (e.radiometry.finalDirect + e.radiometry.finalIndirect) * e.area;
     }
   return power;
 }

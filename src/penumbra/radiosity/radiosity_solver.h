@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "penumbra/radiosity/cluster.h"
@@ -25,6 +26,7 @@
 namespace penumbra {
 
 class RayCaster;
+class SplitMix;
 class ExactReference;
 class UniformGrid;
 
@@ -73,10 +75,16 @@ struct RadiosityOptions {
   // from 0.27% at tolerance 1e-3 to 0.70% at 3e-4 (energy created on the floor, cause not yet
   // found), so it is off until that is understood (docs/radiosity.md, known limits).
   bool elementSourceShares = false;
-  // The irradiance shown at the leaves (mesh, probes) re-gathered at each leaf's own points from
-  // every active link above it (final_gather.cpp), instead of the mean its ancestors pushed down.
-  // The solution (B, the energy balance) is the same either way.
+  // The leaves' irradiance re-gathered at each leaf's own 16 points from every active link above
+  // it, and the leaves' radiosities solved again with it (final_gather.cpp): exactly for element
+  // sources that are wholly visible or brighter than exactGatherContrast x the scene's mean
+  // radiosity, by finalGatherRays cosine-distributed rays per point (and more where few meet
+  // the rest) for the others and for cluster sources, which share what the exact ones leave of
+  // the hemisphere. This final solution is what is shown (mesh, probes) and what the energy
+  // balance counts; off, the hierarchical solution's pushed means are.
   bool finalGather = true;
+  int finalGatherRays = 32;
+  double exactGatherContrast = 4;
   std::uint64_t seed = 1;
 };
 
@@ -92,7 +100,10 @@ struct RadiosityStats {
   long long polygonShafts = 0;  // element-to-element links; the others are box-to-box
   long long visibilityRays = 0;
   long long exactVisibilityPoints = 0;  // receiver points whose visible form factor was clipped
+  long long finalGatherRays = 0;        // rays cast by the final gather
+  long long finalGatherMisses = 0;      // ... that met a back face or nothing
   int iterations = 0;                   // gathering iterations of the last solve
+  int finalIterations = 0;              // Jacobi iterations of the final solution
   double residual = 0;                  // last largest relative change of B
   std::size_t clusterBytes = 0;
   std::size_t elementBytes = 0;
@@ -162,7 +173,7 @@ class RadiositySolver {
 
   // Power (W per channel) emitted by all polygons and absorbed by all leaves, (1 − ρ) A E summed.
   Rgb emittedPower() const;
-  Rgb absorbedPower() const;
+  Rgb absorbedPower() const;  // of the final solution with RadiosityOptions::finalGather
 
  private:
   void clear();
@@ -173,6 +184,12 @@ class RadiositySolver {
   // Exact visibility of the source element from the receiver element's 16 grandchild centres
   // (the receiver oracle's points): fills link.pointVisibleTransfers and link.visibility.
   void estimateExactVisibility(Link& link, const Element& receiver, const Element& source);
+  // The exact visible form factor from x (normal `normal`, on polygon `receiver`) to `source`,
+  // whose unoccluded form factor from x is `unoccluded`, hidden only by `occluders` (none: the
+  // unoccluded one). Snapped to exactly 0 or `unoccluded` within rounding of either.
+  double visibleTransfer(const Vec3& x, const Vec3& normal, PolygonId receiver,
+                         const Element& source, std::span<const PolygonId> occluders,
+                         double unoccluded);
   // Polygons that may hide part of `source` from `receiver`: those meeting their polygon shaft.
   std::vector<PolygonId> shaftOccluders(const Element& receiver, const Element& source) const;
   void refineLink(int link);
@@ -181,6 +198,8 @@ class RadiositySolver {
   // The link's transfer seen from the point x of its element receiver (`covered`: x lies under a
   // polygon in contact with the receiver).
   double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;
+  // The exact form factor from x (normal `normal`) to the front of element e.
+  double pointFormFactor(const Vec3& x, const Vec3& normal, const Element& e) const;
   // The same without visibility: the exact point form factor to the source.
   double unoccludedPointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
                                  bool covered) const;
@@ -191,8 +210,19 @@ class RadiositySolver {
   Rgb sourceValue(const Link& link, Rgb NodeRadiometry::*quantity) const;
   void pushPull(NodeRef node, const Rgb& direct, const Rgb& indirect, double& largestChange);
   void pullEmission(NodeRef node);
-  // Re-gathers every leaf's irradiance at its own points (NodeRadiometry::finalDirect/Indirect).
+  // What a leaf gathers in the final solution: weight x the radiosity of an element.
+  struct GatherEntry;
+  // Re-gathers every leaf's irradiance at its own points and solves the leaves' radiosities
+  // again with it (NodeRadiometry::finalDirect/Indirect, radiosity, reflected).
   void finalGather();
+  void splitRemainder(const Element& leaf, const Vec3& x, double remainder,
+                      const std::vector<int>& rayElements, const std::vector<int>& exactFor,
+                      int leafId, SplitMix& rng, std::vector<GatherEntry>& entries);
+  void solveLeaves(const std::vector<std::vector<GatherEntry>>& gathered);
+  // The leaf element of `polygon` holding its point y (nearest by insideness), -1 if none.
+  int leafAt(PolygonId polygon, const Vec3& y) const;
+  // The leaf of a polygon in contact with `polygon` that covers its point x, -1 if none.
+  int coveringLeaf(PolygonId polygon, const Vec3& x) const;
   void buildMesh();
   void computeStats();
 
