@@ -4,13 +4,15 @@
 // 195 MHz R10000).
 //
 // Usage: radiosity_bench [--tolerance T] [--furnace] [--convergence] [--element-shares]
-//                        [--exact-visibility] [scene.json ...]
+//                        [--exact-visibility] [--exact-gather-contrast C] [scene.json ...]
 // (default: the Cornell box and both chair rooms at tolerances 1e-3 and 3e-4).
 // --furnace: every material emits 1 with reflectance 0.5, the lamps left out: the irradiance must
 //   be 2 everywhere, absorbed = emitted.
 // --element-shares: RadiosityOptions::elementSourceShares (element sources send per cell).
 // --exact-visibility: RadiosityOptions::exactVisibility (element links' visibility computed
 //   exactly at 16 receiver points instead of by 16 rays).
+// --exact-gather-contrast C: RadiosityOptions::exactGatherContrast (partly hidden element
+//   sources brighter than C x the mean radiosity are gathered exactly by the final solution).
 // --convergence: the direct part at the element vertices of the first scene against the exact
 //   reference irradiance, per tolerance: links, mean and largest error (relative to the mean
 //   exact irradiance), seconds.
@@ -38,7 +40,7 @@ using namespace penumbra;
 namespace {
 
 void run(const std::string& path, double tolerance, bool furnace, bool elementShares,
-         bool exactVisibility) {
+         bool exactVisibility, double exactGatherContrast) {
   Scene scene = loadScene(path);
   // The furnace leaves out the lamps (objects named "light"): single polygons 1 cm below the
   // ceiling, whose dark backs the ceiling sees, where E < M/(1−ρ) in the exact solution too.
@@ -52,6 +54,7 @@ void run(const std::string& path, double tolerance, bool furnace, bool elementSh
   options.tolerance = tolerance;
   options.elementSourceShares = elementShares;
   options.exactVisibility = exactVisibility;
+  options.exactGatherContrast = exactGatherContrast;
   RadiositySolver solver(options);
   solver.build(scene, 0);
   const RadiosityStats& s = solver.stats();
@@ -177,6 +180,7 @@ int main(int argc, char** argv) {
   std::vector<double> tolerances;
   std::vector<std::string> scenes;
   bool furnace = false, convergenceTable = false, elementShares = false, exactVisibility = false;
+  double exactGatherContrast = RadiosityOptions{}.exactGatherContrast;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--tolerance" && i + 1 < argc)
@@ -187,6 +191,8 @@ int main(int argc, char** argv) {
       elementShares = true;
     else if (arg == "--exact-visibility")
       exactVisibility = true;
+    else if (arg == "--exact-gather-contrast" && i + 1 < argc)
+      exactGatherContrast = std::atof(argv[++i]);
     else if (arg == "--convergence")
       convergenceTable = true;
     else
@@ -212,6 +218,6 @@ int main(int argc, char** argv) {
               "solve", "abs/em");
   for (double tolerance : tolerances)
     for (const std::string& scene : scenes)
-      run(scene, tolerance, furnace, elementShares, exactVisibility);
+      run(scene, tolerance, furnace, elementShares, exactVisibility, exactGatherContrast);
   return 0;
 }
