@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "penumbra/base/check.h"
+#include "penumbra/base/split_mix.h"
 #include "penumbra/geometry/box.h"
 #include "penumbra/geometry/polygon.h"
 
@@ -25,26 +26,20 @@ constexpr double kBoard = 0.02;      // shelf boards and sides
 constexpr int kPolygonsPerUnit = 6;  // budgets are counted in boxes
 constexpr double kBoxSize = 0.15;    // the floating box
 
-// SplitMix64, with our own conversions: std::mt19937_64 is portable but the std::
-// distributions are not, and a seed must give the same scene everywhere.
+// SplitMix64 (base/split_mix.h), with our own conversions: std::mt19937_64 is portable but the
+// std:: distributions are not, and a seed must give the same scene everywhere.
 class Random {
  public:
-  explicit Random(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * double(next() >> 11) * 0x1.0p-53; }
+  explicit Random(std::uint64_t seed) : bits_(seed) {}
+  double uniform(double lo, double hi) { return lo + (hi - lo) * bits_.uniform(); }
   // Integer in [lo, hi].
-  int integer(int lo, int hi) { return lo + int(next() % std::uint64_t(hi - lo + 1)); }
+  int integer(int lo, int hi) { return lo + int(bits_.next() % std::uint64_t(hi - lo + 1)); }
   // A length snapped to millimetres, so that coordinates derived from several of them agree
   // exactly after the output rounding (touching solids must touch, not overlap by 1e-16).
   double length(double lo, double hi) { return std::round(uniform(lo, hi) * 1000) / 1000; }
 
  private:
-  std::uint64_t state_;
+  SplitMix bits_;
 };
 
 using Solid = std::vector<Polygon3>;
