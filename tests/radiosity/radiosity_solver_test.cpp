@@ -202,8 +202,9 @@ TEST(RadiositySolver, FurnaceInEmptyRoom) {
 // everywhere to 1%. What is shown is the final solution (final_gather.cpp): at every leaf point
 // the element sources' exact visible form factors, and what they leave of the hemisphere split by
 // rays among the cluster sources' surfaces, so a point's transfers sum to 1 in a closed scene.
-// Measured: at 1e-3, 98.97% of the area within 1% (one sideboard leaf 4.4% low); at 3e-4 every
-// leaf within 1e-5 of 2.
+// Measured: every leaf within 0.25% of 2 at 1e-3 and within 0.55% at 3e-4 (what is left is the
+// rays' split of the remainder where some meet nothing, so it does not shrink with the
+// tolerance); area means within 1e-4.
 TEST(RadiositySolver, FurnaceInChairRoom) {
   const Scene scene = furnace("chair-room/chair-room.json", 0.5);
   const FurnaceResult coarse = solveFurnace(scene, 0.5, 1e-3);
@@ -211,11 +212,9 @@ TEST(RadiositySolver, FurnaceInChairRoom) {
   for (const FurnaceResult& r : {coarse, fine}) {
     EXPECT_LT(r.meanError, 1e-3);
     EXPECT_LT(r.balanceError, 1e-3);
+    EXPECT_LT(r.largestError, 0.01);
+    EXPECT_EQ(r.areaWithin1Percent, 1.0);
   }
-  EXPECT_GT(coarse.areaWithin1Percent, 0.985);
-  EXPECT_GT(fine.areaWithin1Percent, 0.99);
-  EXPECT_LT(fine.largestError, 0.01);
-  EXPECT_LT(fine.largestError, coarse.largestError);
   // The hierarchical solution that drove refinement (each leaf the mean its ancestors' links
   // pushed down) tightens with the tolerance (measured 44.8% of the area within 1% at 1e-3, 64.5%
   // at 3e-4): that is what the refinement oracles control.
@@ -243,9 +242,9 @@ TEST(RadiositySolver, ExactVisibilityTightensTheFurnace) {
 }
 
 // The furnished room (1,300 polygons: desks, drawers with handles, bookshelves 1 cm off the
-// walls, chairs) at 3e-4. Measured: mean and balance within 1e-5, 99.99% of the area within 1%
-// (the hierarchical solution that drove refinement: 42.2%, and it absorbed 0.83% more than was
-// emitted), the worst leaf 6.4% off.
+// walls, chairs) at 3e-4. Measured: mean and balance within 1e-4, all of the area within 1% (the
+// hierarchical solution that drove refinement: 42.2%, and it absorbed 0.83% more than was
+// emitted), the worst leaf 1.3% off.
 TEST(RadiositySolver, FurnaceInFurnishedRoom) {
   const FurnaceResult r = solveFurnace(furnace("chair-room/furnished-room.json", 0.5), 0.5, 3e-4);
   EXPECT_LT(r.meanError, 1e-3);
@@ -306,9 +305,9 @@ TEST(RadiositySolver, EnergyBalanceWithOneLamp) {
         std::max({std::abs(absorbed.r / emitted.r - 1), std::abs(absorbed.g / emitted.g - 1),
                   std::abs(absorbed.b / emitted.b - 1)}));
   }
-  // 1%, the target, at the finer tolerance (measured 1.0% at 1e-3, 0.25% at 3e-4).
-  EXPECT_LT(errors.back(), 0.01);
-  EXPECT_LT(errors.back(), errors.front());
+  // 1% is the target; measured 0.28% at 1e-3 and 0.32% at 3e-4 (the hierarchical solution's
+  // balance, before the final solution, 1.0% and 0.25%).
+  for (double error : errors) EXPECT_LT(error, 0.005);
 }
 
 // The chair room under its lamp, element sources sending per cell (elementSourceShares): the
@@ -328,7 +327,7 @@ TEST(RadiositySolver, EnergyBalanceInChairRoomWithElementShares) {
 // The chair room under its lamp with the default options: the final solution gathers the
 // partly hidden sources by rays, which take the radiosity of the leaf they meet, so the part of a
 // wall hidden from a receiver, often the part in shadow, is not sent at the wall's mean radiosity
-// (the hierarchical solution lost 3% that way: absorbed / emitted 0.971). Measured 0.994.
+// (the hierarchical solution lost 3% that way: absorbed / emitted 0.971). Measured 0.9944.
 TEST(RadiositySolver, EnergyBalanceInChairRoom) {
   RadiositySolver solver(withTolerance(1e-3));
   solver.build(loadScene(scenePath("chair-room/chair-room.json")), 0);

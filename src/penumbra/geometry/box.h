@@ -44,4 +44,11 @@ struct Box3 {
   }
 };
 
+// Distance from p to the nearest point of b (0 inside).
+inline double distance(const Vec3& p, const Box3& b) {
+  const Vec3 nearest{std::clamp(p.x, b.min.x, b.max.x), std::clamp(p.y, b.min.y, b.max.y),
+                     std::clamp(p.z, b.min.z, b.max.z)};
+  return distance(p, nearest);
+}
+
 }  // namespace penumbra

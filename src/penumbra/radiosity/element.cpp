@@ -37,18 +37,25 @@ Vec3 Element::centroid() const {
   return a0 + a1 > 0 ? (c0 * a0 + c1 * a1) / (a0 + a1) : c0;
 }
 
-std::array<Vec3, 16> Element::grandchildCentres() const {
-  std::array<Vec3, 16> centres{};
+std::array<std::array<Vec3, 4>, 16> Element::grandchildCells() const {
+  std::array<std::array<Vec3, 4>, 16> cells{};
   int k = 0;
   for (const auto& loop : childVertices()) {
     Element child;
     child.vertices = loop;
     child.vertexCount = vertexCount;
-    for (const auto& subLoop : child.childVertices()) {
-      Vec3 x{0, 0, 0};
-      for (int i = 0; i < vertexCount; ++i) x += subLoop[i];
-      centres[k++] = x / double(vertexCount);
-    }
+    for (const auto& subLoop : child.childVertices()) cells[k++] = subLoop;
+  }
+  return cells;
+}
+
+std::array<Vec3, 16> Element::grandchildCentres() const {
+  std::array<Vec3, 16> centres{};
+  const auto cells = grandchildCells();
+  for (int k = 0; k < 16; ++k) {
+    Vec3 x{0, 0, 0};
+    for (int i = 0; i < vertexCount; ++i) x += cells[k][i];
+    centres[k] = x / double(vertexCount);
   }
   return centres;
 }

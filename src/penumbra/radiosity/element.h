@@ -53,6 +53,8 @@ struct Element {
   // The centres (vertex means) of the sixteen cells two quadtree levels down, whether or not the
   // element is split: the receiver oracle's points, and where exact visibility is evaluated.
   std::array<Vec3, 16> grandchildCentres() const;
+  // Those sixteen cells' vertex loops, in the same order.
+  std::array<std::array<Vec3, 4>, 16> grandchildCells() const;
   // A point of the element from two numbers in [0, 1)², uniform in area.
   Vec3 samplePoint(double u, double v) const;
   // Signed distance-like inside test: >= 0 inside (smallest of the edge distances).

@@ -533,6 +533,17 @@ double RadiositySolver::pointFormFactor(const Vec3& x, const Vec3& normal, const
   return pointToElement(x, normal, e);
 }
 
+double RadiositySolver::cellFormFactor(const std::array<Vec3, 4>& cell, const Element& receiver,
+                                       const Element& source) const {
+  Element c;
+  c.vertices = cell;
+  c.vertexCount = receiver.vertexCount;
+  c.normal = receiver.normal;
+  c.area = elementArea(cell, receiver.vertexCount);
+  if (!(c.area > 0)) return pointToElement(c.centroid(), receiver.normal, source);
+  return meanFormFactor(c, source).mean;
+}
+
 double RadiositySolver::pointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
                                       bool covered) const {
   return unoccludedPointTransfer(link, x, normal, covered) * link.visibility;

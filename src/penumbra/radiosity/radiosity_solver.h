@@ -77,9 +77,9 @@ struct RadiosityOptions {
   bool elementSourceShares = false;
   // The leaves' irradiance re-gathered at each leaf's own 16 points from every active link above
   // it, and the leaves' radiosities solved again with it (final_gather.cpp): exactly for element
-  // sources that are wholly visible or brighter than exactGatherContrast x the scene's mean
-  // radiosity, by finalGatherRays cosine-distributed rays per point (and more where few meet
-  // the rest) for the others and for cluster sources, which share what the exact ones leave of
+  // sources that are wholly visible or emit more than exactGatherContrast x the scene's mean
+  // radiosity (lamps), by finalGatherRays cosine-distributed rays per point (and more where few
+  // meet the rest) for the others and for cluster sources, which share what the exact ones leave of
   // the hemisphere. This final solution is what is shown (mesh, probes) and what the energy
   // balance counts; off, the hierarchical solution's pushed means are.
   bool finalGather = true;
@@ -200,6 +200,10 @@ class RadiositySolver {
   double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;
   // The exact form factor from x (normal `normal`) to the front of element e.
   double pointFormFactor(const Vec3& x, const Vec3& normal, const Element& e) const;
+  // The mean over `cell` (a part of `receiver`, in its plane) of the point form factor to
+  // `source`, by the links' adaptive quadrature.
+  double cellFormFactor(const std::array<Vec3, 4>& cell, const Element& receiver,
+                        const Element& source) const;
   // The same without visibility: the exact point form factor to the source.
   double unoccludedPointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
                                  bool covered) const;
@@ -212,13 +216,15 @@ class RadiositySolver {
   void pullEmission(NodeRef node);
   // What a leaf gathers in the final solution: weight x the radiosity of an element.
   struct GatherEntry;
+  struct LeafGather;
   // Re-gathers every leaf's irradiance at its own points and solves the leaves' radiosities
   // again with it (NodeRadiometry::finalDirect/Indirect, radiosity, reflected).
   void finalGather();
-  void splitRemainder(const Element& leaf, const Vec3& x, double remainder,
-                      const std::vector<int>& rayElements, const std::vector<int>& exactFor,
-                      int leafId, SplitMix& rng, std::vector<GatherEntry>& entries);
-  void solveLeaves(const std::vector<std::vector<GatherEntry>>& gathered);
+  void splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell, const Vec3& x,
+                      double remainder, const std::vector<int>& rayElements,
+                      const std::vector<int>& exactFor, int leafId, SplitMix& rng,
+                      std::vector<GatherEntry>& entries);
+  void solveLeaves(const std::vector<LeafGather>& gathered);
   // The leaf element of `polygon` holding its point y (nearest by insideness), -1 if none.
   int leafAt(PolygonId polygon, const Vec3& y) const;
   // The leaf of a polygon in contact with `polygon` that covers its point x, -1 if none.
