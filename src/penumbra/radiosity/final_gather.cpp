@@ -272,10 +272,16 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         const int h = leafAt(hit->polygon, hit->point);
         if (h >= 0 && isExact(h)) continue;
         const bool front = dot(scene_.polygons[hit->polygon].plane.normal, d) < 0;
-        // A back face met right away is a seam the ray slipped into (x within the caster's
-        // epsilon of a door's edge, whose bottom face it then does not meet), not a view of the
-        // back of something: such rays say nothing.
-        if (!front && hit->t < kSeam * rays_->epsilon()) continue;
+        // A back face met through a surface the ray left within the caster's epsilon of its
+        // origin (an origin a hair beside a book standing on a shelf: the ray passes the
+        // book's near side, closer than epsilon, and meets its far side from inside) or met
+        // right away (an origin at a door's edge) is a seam the ray slipped into, not a view of
+        // the back of something: such rays say nothing.
+        if (!front) {
+          if (hit->t < kSeam * rays_->epsilon()) continue;
+          const auto first = rays_->intersect(origin, d, 0, rays_->epsilon(), leaf.polygon);
+          if (first) continue;
+        }
         if (!front) ++stats_.finalGatherMisses;
         met.push_back(front ? h : -1);
       }
