@@ -10,25 +10,31 @@
 // power (a small receiver, a small cluster), so the leaves' irradiance strays by tens of percent
 // where the energy balance is exact.
 //
-// Here every leaf takes, at its 16 grandchild centres x, what the sources of the active links
-// above it (its element ancestors' links and those of the clusters holding its polygon) send to
-// x. Those sources tile the scene as seen from the leaf, so at x their visible form factors sum
-// to the part of x's hemisphere that meets a surface: 1 in a closed scene.
-//  - An element source: its exact visible form factor from x (the source minus the central
-//    projections of the polygons meeting the shaft between the leaf and the source, as the exact
-//    reference clips a light), times the source's radiosity.
-//  - The sources that are clusters: cosine-distributed rays from x, each taking the radiosity of
-//    the leaf it meets (0 on a back face: polygons emit and reflect from their front only). Rays
-//    that meet an element source of the first kind are already counted exactly; the others share
-//    what the exact ones leave of the hemisphere, 1 − Σ exact (a ratio estimator, Hammersley &
-//    Handscomb 1964 §5.5): the sum at x is then 1 in a closed scene whatever the rays' noise, and
-//    the noise stays in how the remainder is split among the clusters' surfaces.
-//  - A point covered by a polygon in contact (a box's bottom on the floor) sees only that polygon.
-// The leaves' radiosities are then solved again by Jacobi iteration over these point transfers
-// (B_leaf = M + ρ E_leaf, inner elements' B the area mean of their leaves), starting from the
-// hierarchical solution: the answer shown (mesh, probes) and its energy balance are those of this
-// final solution. The hierarchical solution (NodeRadiometry::irradianceDirect / Indirect) is
-// what refinement was driven by; it is kept for comparison.
+// Here each of a leaf's 16 grandchild cells takes what the sources of the active links above the
+// leaf (its element ancestors' links and those of the clusters holding its polygon) send to it.
+// Those sources tile the scene as seen from the leaf, so over a cell their visible form factors
+// sum to the part of the hemisphere that meets a surface: 1 in a closed scene.
+//  - Exact sources: element sources wholly visible from the leaf (no polygon meets their shaft),
+//    and lamps (emitting more than RadiosityOptions::exactGatherContrast x the mean radiosity),
+//    whose shadows rays would leave noisy. Their form factor is the cell's mean where the source
+//    is near (the links' adaptive quadrature), the centre's value elsewhere, a partly hidden
+//    lamp's scaled by its exact visible fraction at the centre (the source minus the central
+//    projections of the polygons in the shaft, as the exact reference clips a light); they send
+//    the source's radiosity.
+//  - Ray sources: partly hidden element sources and the root elements of cluster sources.
+//    Cosine-distributed rays from points of the cell take the radiosity of the leaf they meet (0
+//    on a back face: polygons emit and reflect from their front only), so a source's part hidden
+//    from the cell, often the part in shadow, is not sent at the visible part's visibility. Rays
+//    meeting an exact source are already counted; the others share what the exact ones leave of
+//    the hemisphere, 1 − Σ exact (a ratio estimator, Hammersley & Handscomb 1964 §5.5): the sum
+//    over the cell is then 1 in a closed scene whatever the rays' noise, and the noise stays in
+//    how the remainder is split.
+//  - A cell covered by a polygon in contact (a box's bottom on the floor) sees only that polygon,
+//    and a leaf partly covered sends the room the radiosity of its exposed cells.
+// The leaves' radiosities are then solved again by Jacobi iteration over these transfers, starting
+// from the hierarchical solution: the answer shown (mesh, probes) and its energy balance are those
+// of this final solution. The hierarchical solution (NodeRadiometry::irradianceDirect / Indirect)
+// is what refinement follows; it is kept for comparison.
 
 #include <algorithm>
 #include <array>
@@ -92,8 +98,8 @@ void RadiositySolver::finalGather() {
   // Sources emitting more than exactGatherContrast x the mean radiosity of the scene's surfaces
   // (the lamps) are gathered exactly even where partly hidden. Emission, not radiosity: a
   // reflector's radiosity varies over it with its shadows, and gathered at its mean radiosity a
-  // partly hidden one sends its hidden, often shadowed, part's light at the visible part's
-  // visibility (the Cornell box's floor judged by its brightest leaf lost 1.5% of the energy).
+  // partly hidden one would send its hidden, often shadowed, part's light at the visible part's
+  // visibility.
   double areaSum = 0, radiositySum = 0;
   for (const Element& e : elements_)
     if (e.isLeaf()) {
