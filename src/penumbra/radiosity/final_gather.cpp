@@ -150,16 +150,14 @@ void RadiositySolver::finalGather() {
     SplitMix rng(options_.seed * 0x9e3779b97f4a7c15ull + id);
     LeafGather& leafGather = gathered[id];
     std::vector<GatherEntry>& entries = leafGather.exposed;
-    // Each of the leaf's 16 grandchild cells gathers the mean over the cell of what arrives: the
-    // point transfers' quadrature must integrate the receiver as the links' did, or a source
-    // sharing an edge with the receiver (a wall's elements seen from the floor along it), whose
-    // point form factor peaks at that edge, is under-seen by the cells' centres, and what it
-    // emits is not all received (the Cornell box's polygons were seen 0.91 to 1.10 of their
-    // area). The cell's centre, nudged by a ten-thousandth of the leaf along two
-    // incommensurate directions, says whether the cell is covered by a polygon in contact:
-    // subdivision puts centres on round coordinates, where modelled features often lie (a
-    // door's edge on a sideboard), and a centre on the edge of a polygon in contact is neither
-    // covered nor free.
+    // Each of the leaf's 16 grandchild cells gathers the mean over the cell of what arrives, so
+    // that the receivers integrate what a source sends as the links' quadrature does: the point
+    // form factor to a source sharing an edge with the receiver (a wall's elements seen from
+    // the floor along it) peaks at that edge, between the cells' centres. The cell's centre,
+    // nudged by a ten-thousandth of the leaf along two incommensurate directions, says whether
+    // the cell is covered by a polygon in contact: subdivision puts centres on round
+    // coordinates, where modelled features often lie (a door's edge on a sideboard), and a
+    // centre on the edge of a polygon in contact is neither covered nor free.
     const Vec3 nudge = (leaf.vertices[1] - leaf.vertices[0]) * 1.2345e-4 +
                        (leaf.vertices[leaf.vertexCount - 1] - leaf.vertices[0]) * 0.9876e-4;
     const std::array<std::array<Vec3, 4>, 16> cells = leaf.grandchildCells();
@@ -222,14 +220,14 @@ void RadiositySolver::finalGather() {
 // among what they meet outside those sources: the leaf met (its radiosity), or nothing (a back
 // face, or no surface). Rays are cast in rounds until a quarter of a round's count has met
 // something outside the exact sources; where none does (the remainder is a sliver of the
-// hemisphere) or the remainder is below kNoRays, it goes to the cluster sources' root elements
-// in proportion to their unoccluded form factors from x.
+// hemisphere) or the remainder is below kNoRays of it, it goes to the ray sources' root
+// elements in proportion to their unoccluded form factors from x.
 void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell,
                                      const Vec3& x, double remainder,
                                      const std::vector<int>& rayElements,
                                      const std::vector<int>& exactFor, int leafId, SplitMix& rng,
                                      std::vector<GatherEntry>& entries) {
-  constexpr double kNoRays = 1e-3 / 16;
+  constexpr double kNoRays = 1e-4;
   constexpr int kRounds = 8;
   constexpr double kSeam = 10;
   const int rays = std::max(0, options_.finalGatherRays);
