@@ -440,10 +440,6 @@ std::vector<PolygonId> RadiositySolver::shaftOccluders(const Element& receiver,
   return occluders;
 }
 
-// Visibility as the ratio of the visible to the unoccluded form factor summed over the receiver's
-// 16 grandchild centres, each visible form factor exact (the source clipped by the projections of
-// the shaft's polygons from that point). No noise: a closed scene's visible form factors from a
-// point sum to 1, which the rays' estimate only did on average.
 double RadiositySolver::visibleTransfer(const Vec3& x, const Vec3& normal, PolygonId receiver,
                                         const Element& source, std::span<const PolygonId> occluders,
                                         double unoccluded) {
@@ -460,6 +456,10 @@ double RadiositySolver::visibleTransfer(const Vec3& x, const Vec3& normal, Polyg
   return v;
 }
 
+// Visibility as the ratio of the visible to the unoccluded form factor summed over the receiver's
+// 16 grandchild centres, each visible form factor exact (the source clipped by the projections of
+// the shaft's polygons from that point). No noise: a closed scene's visible form factors from a
+// point sum to 1, which the rays' estimate only did on average.
 void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, const Element& se) {
   link.pointVisibleTransfers.clear();
   const std::vector<PolygonId> occluders = shaftOccluders(re, se);

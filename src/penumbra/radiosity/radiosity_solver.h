@@ -75,13 +75,13 @@ struct RadiosityOptions {
   // from 0.27% at tolerance 1e-3 to 0.70% at 3e-4 (energy created on the floor, cause not yet
   // found), so it is off until that is understood (docs/radiosity.md, known limits).
   bool elementSourceShares = false;
-  // The leaves' irradiance re-gathered at each leaf's own 16 points from every active link above
+  // The leaves' irradiance re-gathered over each leaf's own 16 cells from every active link above
   // it, and the leaves' radiosities solved again with it (final_gather.cpp): exactly for element
   // sources that are wholly visible or emit more than exactGatherContrast x the scene's mean
-  // radiosity (lamps), by finalGatherRays cosine-distributed rays per point (and more where few
-  // meet the rest) for the others and for cluster sources, which share what the exact ones leave of
-  // the hemisphere. This final solution is what is shown (mesh, probes) and what the energy
-  // balance counts; off, the hierarchical solution's pushed means are.
+  // radiosity (lamps), by rounds of finalGatherRays cosine-distributed rays per cell (more rounds
+  // where few meet the rest) for the others and for cluster sources, which share what the exact
+  // ones leave of the hemisphere. This final solution is what is shown (mesh, probes) and what the
+  // energy balance counts; off, the hierarchical solution's pushed means are.
   bool finalGather = true;
   int finalGatherRays = 32;
   double exactGatherContrast = 4;
@@ -198,15 +198,15 @@ class RadiositySolver {
   // The link's transfer seen from the point x of its element receiver (`covered`: x lies under a
   // polygon in contact with the receiver).
   double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;
+  // The same without visibility: the exact point form factor to the source.
+  double unoccludedPointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
+                                 bool covered) const;
   // The exact form factor from x (normal `normal`) to the front of element e.
   double pointFormFactor(const Vec3& x, const Vec3& normal, const Element& e) const;
   // The mean over `cell` (a part of `receiver`, in its plane) of the point form factor to
   // `source`, by the links' adaptive quadrature.
   double cellFormFactor(const std::array<Vec3, 4>& cell, const Element& receiver,
                         const Element& source) const;
-  // The same without visibility: the exact point form factor to the source.
-  double unoccludedPointTransfer(const Link& link, const Vec3& x, const Vec3& normal,
-                                 bool covered) const;
   bool refineActiveLinks();
   void solve();
   // What the link's source sends per unit transfer: its `quantity` (emission, reflected or total
