@@ -27,8 +27,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numbers>
 
+#include "penumbra/geometry/cosine_direction.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
@@ -85,14 +85,11 @@ void run(const std::string& path, double tolerance, bool furnace, bool elementSh
       return double(state >> 8) / double(1 << 24);
     };
     const auto seesBackFaces = [&](const Element& e) {
-      const Vec3 t = std::abs(e.normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      const Vec3 u = normalize(cross(e.normal, t)), v = cross(e.normal, u);
       for (int point = 0; point < 16; ++point) {
         const Vec3 x = e.samplePoint((point % 4 + uniform()) / 4, (point / 4 + uniform()) / 4);
         for (int ray = 0; ray < 16; ++ray) {
-          const double a = uniform(), phi = 2 * std::numbers::pi * uniform(), r = std::sqrt(a);
-          const Vec3 d =
-              u * (r * std::cos(phi)) + v * (r * std::sin(phi)) + e.normal * std::sqrt(1 - a);
+          const double a = uniform(), turn = uniform();
+          const Vec3 d = cosineDirection(e.normal, a, turn);
           const auto hit = rays.intersect(x, d, 0, std::numeric_limits<double>::infinity(),
                                           PolygonId(e.polygon));
           if (hit && dot(posed.polygons[hit->polygon].plane.normal, d) > 0) return true;

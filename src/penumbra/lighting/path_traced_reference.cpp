@@ -3,25 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "penumbra/base/split_mix.h"
+#include "penumbra/geometry/cosine_direction.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/spatial/ray_caster.h"
 
 namespace penumbra {
-
-namespace {
-
-// A cosine-distributed direction about the unit normal n (Malley's method).
-Vec3 cosineDirection(const Vec3& n, double u1, double u2) {
-  const Vec3 t = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 u = normalize(cross(n, t)), v = cross(n, u);
-  const double r = std::sqrt(u1), phi = 2 * std::numbers::pi * u2;
-  return u * (r * std::cos(phi)) + v * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - u1));
-}
-
-}  // namespace
 
 PathTracedReference::PathTracedReference(const PosedScene& scene, const RayCaster& caster,
                                          const ExactReference& reference)
@@ -41,7 +29,9 @@ PathTracedEstimate PathTracedReference::irradiance(const Vec3& point, const Vec3
     Vec3 x = point, n = n0;
     PolygonId from = receiver;
     for (;;) {
-      const Vec3 d = cosineDirection(n, rng.uniform(), rng.uniform());
+      // Drawn azimuth first, then radius (in sequence: function arguments are not).
+      const double azimuth = rng.uniform(), radius = rng.uniform();
+      const Vec3 d = cosineDirection(n, radius, azimuth);
       ++estimate.rays;
       const auto hit =
           caster_.intersect(x, d, caster_.epsilon(), std::numeric_limits<double>::infinity(), from);

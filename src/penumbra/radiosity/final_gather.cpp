@@ -40,10 +40,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 #include "penumbra/base/split_mix.h"
+#include "penumbra/geometry/cosine_direction.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/spatial/ray_caster.h"
 
@@ -238,8 +238,6 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
     // point's rays away from a sixth of the azimuths, and the Cornell box's left wall was
     // seen 1.09 of its area, its right wall 0.94).
     const int side = std::max(1, int(std::sqrt(double(rays))));
-    const Vec3 tangent = std::abs(leaf.normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-    const Vec3 u = normalize(cross(leaf.normal, tangent)), v = cross(leaf.normal, u);
     Element cellElement;
     cellElement.vertices = cell;
     cellElement.vertexCount = leaf.vertexCount;
@@ -251,18 +249,17 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
     };
     for (int round = 0; round < kRounds && 4 * int(met.size()) < rays; ++round)
       for (int r = 0; r < rays; ++r) {
-        // Stratified on the unit disc and lifted to the hemisphere (Malley's method).
+        // Stratified on the unit disc, lifted to the hemisphere.
         const bool stratified = r < side * side;
         const double a = stratified ? (r % side + rng.uniform()) / side : rng.uniform();
-        const double phi =
-            2 * std::numbers::pi * (stratified ? (r / side + rng.uniform()) / side : rng.uniform());
-        const double radius = std::sqrt(a);
-        const Vec3 d = u * (radius * std::cos(phi)) + v * (radius * std::sin(phi)) +
-                       leaf.normal * std::sqrt(std::max(0.0, 1 - a));
+        const double turn = stratified ? (r / side + rng.uniform()) / side : rng.uniform();
+        const Vec3 d = cosineDirection(leaf.normal, a, turn);
         ++stats_.finalGatherRays;
         // From a point uniform in the cell (the cell's mean, as the exact sources give it); one
-        // covered by a polygon in contact sees nothing else and says nothing here.
-        const Vec3 origin = cellElement.samplePoint(rng.uniform(), rng.uniform());
+        // covered by a polygon in contact sees nothing else and says nothing here. (Drawn v
+        // first, then u, in sequence: function arguments are not.)
+        const double v = rng.uniform(), u = rng.uniform();
+        const Vec3 origin = cellElement.samplePoint(u, v);
         if (!partners.empty() && isCovered(leaf.polygon, origin)) continue;
         // Polygons within the caster's epsilon of the origin are not met: a duplicate of the leaf's
         // own polygon (a double-modelled face) would be met at t = 0, from behind.
@@ -309,11 +306,11 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
 // partly covered by a polygon in contact (the floor's leaves along a crate's foot) has two
 // radiosities: over its exposed points, which is what every other surface sees of it, and over
 // its covered points, which only the covering polygon sees. Sending the leaf's mean to the room
-// would send the dark covered part's light from the exposed part (the Cornell box lost 1.5% of
-// its energy that way). So: E_exposed = Σ exposed weight x B_exposed(element), E_covered =
-// Σ covered weight x B_covered(leaf), each B = M + ρ E of its kind, the leaf's E the mean over
-// its 16 points; inner elements' B_exposed (what exact sources send) the area mean of their
-// leaves' (children are stored after their parents, so one backward sweep pulls them up).
+// would send the dark covered part's light from the exposed part. So: E_exposed = Σ exposed weight
+// x B_exposed(element), E_covered = Σ covered weight x B_covered(leaf), each B = M + ρ E of its
+// kind, the leaf's E the mean over its 16 points; inner elements' B_exposed (what exact sources
+// send) the area mean of their leaves' (children are stored after their parents, so one backward
+// sweep pulls them up).
 void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
   const size_t count = elements_.size();
   std::vector<Rgb> exposedReflected(count), coveredReflected(count);
