@@ -394,7 +394,9 @@ void RadiositySolver::estimate(Link& link) {
   const int n = std::max(1, options_.clusterSamples);
   double unoccluded = 0, visible = 0, lowest = 1e300, highest = 0;
   for (int i = 0; i < n; ++i) {
-    const SurfacePoint x = samplePoint(r, rng.uniform(), rng.uniform(), (i + rng.uniform()) / n);
+    // Drawn in sequence (function arguments are not): the cluster's share, then v, then u.
+    const double w = (i + rng.uniform()) / n, v = rng.uniform(), u = rng.uniform();
+    const SurfacePoint x = samplePoint(r, u, v, w);
     for (size_t k = 0; k < sources.size(); ++k)
       cumulative[k + 1] =
           cumulative[k] + pointToElement(x.position, x.normal, elements_[sources[k]]);
@@ -408,8 +410,8 @@ void RadiositySolver::estimate(Link& link) {
     const size_t k = std::min<size_t>(
         std::upper_bound(cumulative.begin() + 1, cumulative.end(), target) - cumulative.begin() - 1,
         sources.size() - 1);
-    const Vec3 y =
-        sampleSeenFrom(x.position, x.normal, elements_[sources[k]], rng.uniform(), rng.uniform());
+    const double second = rng.uniform(), first = rng.uniform();  // in sequence, as above
+    const Vec3 y = sampleSeenFrom(x.position, x.normal, elements_[sources[k]], first, second);
     ++stats_.visibilityRays;
     if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
   }
