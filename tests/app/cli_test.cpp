@@ -223,8 +223,38 @@ TEST(Cli, ShadowsFullWritesAReportAndAMeshPerFrame) {
     std::getline(mesh, magic);
     EXPECT_EQ(magic, "ply") << ply;
   }
-  EXPECT_EQ(runPenumbra("shadows " + scene + " --mode incremental").exitCode, 1);
+  EXPECT_EQ(runPenumbra("shadows " + scene + " --mode sometimes").exitCode, 1);
   EXPECT_EQ(runPenumbra("shadows " + scene + " --frames 2:9").exitCode, 1);
+}
+
+// --mode verify runs the engine held across frames (told each change through update) beside one
+// built from scratch per frame, and reports each frame as identical or not.
+TEST(Cli, ShadowsVerifyComparesUpdatesWithFullRecomputation) {
+  test::TempDir dir;
+  const std::string scene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/office-desk/desk-145.json";
+  const std::string report = dir.path("report.json");
+  const RunResult r = runPenumbra("shadows " + scene + " --mode verify --report " + report);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream in(report);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("\"identical_to_full\": true"), std::string::npos);
+  EXPECT_EQ(text.str().find("\"identical_to_full\": false"), std::string::npos);
+  EXPECT_NE(text.str().find("\"moved_objects\": 1"), std::string::npos);
+}
+
+// Global options are accepted after the verb too (DESIGN.md §6), as the README shows them.
+TEST(Cli, GlobalOptionsAfterTheVerb) {
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const RunResult r = test::runCommand(std::string(PENUMBRA_BINARY_DIR) + "/bin/penumbra info " +
+                                       scene + " --quiet --threads 1");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  const RunResult shadows =
+      test::runCommand(std::string(PENUMBRA_BINARY_DIR) + "/bin/penumbra shadows " + scene +
+                       " --frames 0:0 --mode full --quiet");
+  EXPECT_EQ(shadows.exitCode, 0) << shadows.output;
+  EXPECT_EQ(shadows.output, "");  // --quiet silences the per-frame lines
 }
 
 TEST(Cli, RenderDmWritesAPng) {

@@ -32,6 +32,7 @@ class SceneBuilder {
     p.bounds = boundingBox(vertices);
     scene_.bounds.extend(p.bounds);
     scene_.polygons.push_back(std::move(p));
+    indexObjects(scene_);
     return scene_.polygons.back().id;
   }
   const PosedScene& scene() const { return scene_; }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "penumbra/base/input_error.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/path_traced_reference.h"
 #include "penumbra/scene/scene_loader.h"
@@ -490,6 +491,43 @@ TEST(RadiositySolver, IrradianceAtPointsSplitsDirectAndIndirect) {
   EXPECT_EQ(solver.irradiance({0.1, 0, 0.45}, {0, 1, 0}), s->total());
   // A point in mid-air lies on no receiver.
   EXPECT_FALSE(solver.sample({0.3, 0.3, 0.3}, {0, 1, 0}));
+}
+
+}  // namespace
+}  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// Reflectance 1 loads (issue: MTL `Kd 1 1 1`), and radiosity either converges with it (light
+// escapes an open scene) or says why it cannot (a closed scene reflecting all of a channel).
+TEST(RadiositySolver, ReflectanceOneConvergesInAnOpenSceneAndIsRefusedInALosslessClosedOne) {
+  const auto lossless = [](bool closed) {
+    Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
+    for (Material& m : scene.materials) m.reflectance = {1, 0.5, 0.5};
+    if (!closed)  // drop the room's front-most polygons: an open box
+      for (SceneObject& o : scene.objects)
+        if (o.polygons.size() > 3) {
+          o.polygons.resize(o.polygons.size() - 1);
+          o.polygonMaterial.resize(o.polygons.size());
+          o.polygonOrigin.resize(o.polygons.size());
+        }
+    return scene;
+  };
+  RadiosityOptions options;
+  options.tolerance = 1e-2;
+  RadiositySolver closed(options);
+  try {
+    closed.build(lossless(true), 0);
+    ADD_FAILURE() << "a closed lossless scene must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot converge"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("red"), std::string::npos) << e.what();
+  }
+  RadiositySolver open(options);
+  open.build(lossless(false), 0);
+  EXPECT_TRUE(open.stats().converged);
+  EXPECT_TRUE(open.irradiance({0.3, 0, 0.3}, {0, 1, 0}).isFinite());
 }
 
 }  // namespace

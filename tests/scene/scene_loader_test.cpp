@@ -146,9 +146,11 @@ TEST(JsonSceneErrors, EachBadInputIsNamed) {
                    {"version.json", "\"penumbra\": 1"});
   expectInputError(dir.write("empty.json", R"({ "penumbra": 1, "objects": [] })"),
                    {"empty.json: /objects", "no polygons"});
-  expectInputError(dir.write("reflect.json", R"({ "penumbra": 1, "materials": { "m": { "reflectance": [1.2, 0, 0] } },
+  expectInputError(
+      dir.write("reflect.json",
+                R"({ "penumbra": 1, "materials": { "m": { "reflectance": [1.2, 0, 0] } },
       "objects": [] })"),
-                   {"/materials/m/reflectance", "[0, 1)"});
+      {"/materials/m/reflectance", "[0, 1]"});
   expectInputError(dir.path("scene.txt"), {"scene.txt", "unknown scene file type"});
 }
 

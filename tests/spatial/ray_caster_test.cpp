@@ -29,6 +29,7 @@ class SceneBuilder {
     if (light) scene_.lights.push_back(p.id);
     scene_.bounds.extend(p.bounds);
     scene_.polygons.push_back(std::move(p));
+    indexObjects(scene_);
     return scene_.polygons.back().id;
   }
   const PosedScene& scene() const { return scene_; }

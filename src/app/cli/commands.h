@@ -1,10 +1,16 @@
 #pragma once
 // The verbs of `penumbra` (DESIGN.md §6). Each returns the process exit code; InputError and
-// UsageError propagate to main, which maps them to exit codes 2 and 1.
+// UsageError propagate to main, which maps them to exit codes 2 and 1. Engine settings are the
+// engines' own option structs, bound to the command line as they are: each default is declared
+// once, in the engine.
 
 #include <optional>
 #include <stdexcept>
 #include <string>
+
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+#include "penumbra/lighting/monte_carlo_estimator.h"
+#include "penumbra/radiosity/radiosity_solver.h"
 
 namespace penumbra::cli {
 
@@ -32,12 +38,10 @@ struct ProbeOptions {
   std::string points;
   int frame = 0;
   std::string method = "reference";
-  bool full = false;
-  int samples = 256;  // Monte Carlo: samples per light per batch
-  int batches = 16;   // Monte Carlo: independent batches (standard error)
-  std::uint64_t seed = 1;
+  bool full = false;  // build frame K from scratch instead of updating from frame 0
+  MonteCarloOptions monteCarlo;
   bool withError = false;
-  double tolerance = 1e-3;  // radiosity: refinement tolerance
+  RadiosityOptions radiosity;
 };
 int runProbe(const ProbeOptions& options, const CommonOptions& common);
 
@@ -48,11 +52,11 @@ struct RenderOptions {
   std::string output;
   std::string size;  // WxH, empty: the scene camera's
   int samplesPerPixel = 1;
-  int lightSamples = 1;     // volumes: jittered point lights per area light (1: the centroid)
-  double exposure = 0;      // 0: automatic
-  std::string exr;          // optional raw irradiance output
-  double tolerance = 1e-3;  // radiosity: refinement tolerance
-  bool edges = false;       // dm: draw the discontinuity edges over the image
+  int lightSamples = 1;  // volumes: jittered point lights per area light (1: the centroid)
+  double exposure = 0;   // 0: automatic
+  std::string exr;       // optional raw irradiance output
+  RadiosityOptions radiosity;
+  bool edges = false;  // dm: draw the discontinuity edges over the image
 };
 int runRender(const RenderOptions& options, const CommonOptions& common);
 
@@ -60,7 +64,7 @@ struct RadiosityCommandOptions {
   std::string scene;
   std::string frames;  // A:B, empty: all frames
   std::string update = "full";
-  double tolerance = 1e-3;
+  RadiosityOptions radiosity;
   std::string report;
 };
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common);
@@ -68,10 +72,10 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
 struct ShadowsOptions {
   std::string scene;
   std::string frames;  // A:B, empty: all frames
-  std::string mode = "full";
+  std::string mode = "incremental";
   std::string report;
   std::string outDirectory;  // a PLY of the irradiance mesh per frame
-  bool noEee = false;        // skip the EEE surfaces (faster, not exact across EEE events)
+  DmOptions dm;
 };
 int runShadows(const ShadowsOptions& options, const CommonOptions& common);
 

@@ -31,4 +31,10 @@ FrameRange parseFrameRange(const std::string& text, int frameCount) {
   return range;
 }
 
+void checkFrame(int frame, int frameCount) {
+  if (frame < 0 || frame >= frameCount)
+    throw UsageError("--frame " + std::to_string(frame) + " is outside the scene's frames 0.." +
+                     std::to_string(frameCount - 1));
+}
+
 }  // namespace penumbra::cli

@@ -14,4 +14,7 @@ struct FrameRange {
 // Throws UsageError naming the option and the accepted range otherwise.
 FrameRange parseFrameRange(const std::string& text, int frameCount);
 
+// Checks a single `--frame` value: 0 <= frame < frameCount, else UsageError naming the range.
+void checkFrame(int frame, int frameCount);
+
 }  // namespace penumbra::cli

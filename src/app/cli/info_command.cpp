@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "frame_range.h"
 #include "penumbra/scene/closedness.h"
 #include "penumbra/scene/scene_loader.h"
 
@@ -12,14 +13,12 @@ namespace penumbra::cli {
 int runInfo(const InfoOptions& options, const CommonOptions&) {
   const Scene scene = loadScene(options.scene);
   const int frame = options.frame.value_or(0);
-  if (frame < 0 || frame >= scene.frames)
-    throw UsageError("--frame " + std::to_string(frame) + " is outside the scene's frames 0.." +
-                     std::to_string(scene.frames - 1));
+  checkFrame(frame, scene.frames);
   const PosedScene posed = poseAt(scene, frame);
   const ClosednessReport closedness = checkClosedness(scene, posed);
-  // Bounds over all frames: what a moving object sweeps matters to grids and shafts.
-  Box3 allFrames;
-  for (int f = 0; f < scene.frames; ++f) allFrames.extend(poseAt(scene, f).bounds);
+  // Bounds over all frames (every pose the keyframes reach, conservative between keyframes that
+  // rotate): what a moving object sweeps matters to grids and shafts.
+  const Box3& allFrames = posed.extent;
 
   std::vector<std::string> openObjects;
   for (const ObjectClosedness& c : closedness.objects)

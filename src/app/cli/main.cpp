@@ -12,6 +12,9 @@ using namespace penumbra::cli;
 int main(int argc, char** argv) {
   CLI::App app{"Penumbra: lighting that stays correct while objects move"};
   app.require_subcommand(1);
+  // Global options are accepted after the verb too: a subcommand hands what it does not know to
+  // the main parser (set before the subcommands are added, which inherit it).
+  app.fallthrough();
   CommonOptions common;
   app.add_flag("-q,--quiet", common.quiet, "No progress output on stderr");
   app.add_option("--threads", common.threads, "Worker threads (0: all cores)")
@@ -32,13 +35,14 @@ int main(int argc, char** argv) {
   probeCommand->add_option("--method", probe.method, "reference | montecarlo | dm | radiosity");
   probeCommand->add_flag("--full", probe.full, "Recompute the frame from scratch (no update)");
   probeCommand
-      ->add_option("--samples", probe.samples, "Monte Carlo: light samples per light per batch")
+      ->add_option("--samples", probe.monteCarlo.samplesPerLightPerBatch,
+                   "Monte Carlo: light samples per light per batch")
       ->check(CLI::PositiveNumber);
   probeCommand
-      ->add_option("--batches", probe.batches,
+      ->add_option("--batches", probe.monteCarlo.batches,
                    "Monte Carlo: independent batches for the standard error")
       ->check(CLI::Range(2, 1 << 20));
-  probeCommand->add_option("--seed", probe.seed, "Monte Carlo: random seed");
+  probeCommand->add_option("--seed", probe.monteCarlo.seed, "Monte Carlo: random seed");
   probeCommand->add_flag("--with-error", probe.withError,
                          "Monte Carlo: add r_stderr,g_stderr,b_stderr columns");
 
@@ -61,9 +65,13 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--exr", render.exr, "Also write the raw irradiance as OpenEXR");
   renderCommand->add_flag("--edges", render.edges, "dm: draw the discontinuity edges over it");
 
-  probeCommand->add_option("--tolerance", probe.tolerance, "Radiosity: refinement tolerance")
+  probeCommand
+      ->add_option("--tolerance", probe.radiosity.tolerance, "Radiosity: refinement tolerance")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  renderCommand->add_option("--tolerance", render.tolerance, "Radiosity: refinement tolerance")
+  renderCommand
+      ->add_option("--tolerance", render.radiosity.tolerance, "Radiosity: refinement tolerance")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
   RadiosityCommandOptions radiosity;
@@ -72,7 +80,8 @@ int main(int argc, char** argv) {
   radiosityCommand->add_option("scene", radiosity.scene, "Scene file")->required();
   radiosityCommand->add_option("--frames", radiosity.frames, "Frames A:B (default: all)");
   radiosityCommand->add_option("--update", radiosity.update, "full (linespace: later)");
-  radiosityCommand->add_option("--tolerance", radiosity.tolerance, "Refinement tolerance")
+  radiosityCommand->add_option("--tolerance", radiosity.radiosity.tolerance, "Refinement tolerance")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
   radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
 
@@ -81,11 +90,18 @@ int main(int argc, char** argv) {
       "shadows", "Exact soft shadows (discontinuity meshing) over frames, with a JSON report");
   shadowsCommand->add_option("scene", shadows.scene, "Scene file")->required();
   shadowsCommand->add_option("--frames", shadows.frames, "Frames A:B (default: all)");
-  shadowsCommand->add_option("--mode", shadows.mode, "full (incremental, verify: later)");
+  shadowsCommand
+      ->add_option("--mode", shadows.mode,
+                   "incremental (build the first frame, update through the others) | full "
+                   "(every frame from scratch) | verify (both, compared bit for bit; exit 3 on a "
+                   "difference)")
+      ->check(CLI::IsMember({"incremental", "full", "verify"}))
+      ->capture_default_str();
   shadowsCommand->add_option("--report", shadows.report, "Write statistics as JSON");
-  shadowsCommand->add_flag("--no-eee", shadows.noEee,
-                           "Skip EEE surfaces (much faster in cluttered scenes; not exact across "
-                           "EEE events)");
+  shadowsCommand->add_flag_callback(
+      "--no-eee", [&shadows] { shadows.dm.eeeSurfaces = false; },
+      "Skip EEE surfaces (much faster in cluttered scenes; not exact across "
+      "EEE events)");
   shadowsCommand->add_option("--out", shadows.outDirectory,
                              "Write the irradiance mesh of each frame as PLY into this folder");
 

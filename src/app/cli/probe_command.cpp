@@ -3,6 +3,8 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "frame_range.h"
+#include "frame_walk.h"
 #include "penumbra/base/input_error.h"
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
@@ -10,9 +12,7 @@
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
-#include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/receiver_locator.h"
-#include "penumbra/spatial/uniform_grid.h"
 #include "points_file.h"
 #include "progress.h"
 
@@ -50,58 +50,62 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                      " is not available in this build (available: reference, dm, montecarlo, "
                      "radiosity)");
   const Scene scene = loadScene(options.scene);
-  if (options.frame < 0 || options.frame >= scene.frames)
-    throw UsageError("--frame " + std::to_string(options.frame) +
-                     " is outside the scene's frames 0.." + std::to_string(scene.frames - 1));
+  checkFrame(options.frame, scene.frames);
   const std::vector<ProbePoint> points = readPointsFile(options.points);
-  const PosedScene posed = poseAt(scene, options.frame);
   std::vector<ProbeResult> results(points.size());
 
+  // Frame K is frame 0 updated through 1..K (the shared grid and ray caster move with the scene,
+  // and the engines take each change through update()), unless --full builds K from scratch.
+  DynamicScene live(scene, options.full ? options.frame : 0);
+  const auto lieOnNoReceiver = [&](const ProbePoint& p) {
+    return InputError(options.points + ":" + std::to_string(p.line),
+                      "the point lies on no receiver facing its normal");
+  };
+
   if (options.method == "reference") {
-    const UniformGrid grid(posed);
-    const ExactReference reference(posed, &grid);
+    walkToFrame(live, options.frame, [](const SceneChange&) {});
+    const PosedScene& posed = live.posed();
+    const ExactReference reference(posed, &live.grid());
     Progress progress("probe (reference)", (long long)points.size(), common.quiet);
     parallelFor((long long)points.size(), common.threads, [&](long long i) {
-      const auto receiver = locateReceiver(posed, grid, points[i].position, points[i].normal);
+      const auto receiver =
+          locateReceiver(posed, live.grid(), points[i].position, points[i].normal);
       results[i].value =
           reference.irradiance(points[i].position, points[i].normal,
                                receiver ? std::optional(receiver->polygon) : std::nullopt);
       progress.advance();
     });
   } else if (options.method == "dm") {
-    // The incremental update is not built yet, so every frame is a full computation (what
-    // --full asks for); the located face's backprojection gives each value.
+    // The located face's backprojection gives each value.
     DiscontinuityMeshEngine engine;
-    engine.build(PosedScene(posed));
+    engine.build(live);
+    walkToFrame(live, options.frame,
+                [&](const SceneChange& change) { engine.update(live, change); });
     Progress progress("probe (dm)", (long long)points.size(), common.quiet);
     for (size_t i = 0; i < points.size(); ++i) {
       const auto value = engine.irradiance(points[i].position, points[i].normal);
-      if (!value)
-        throw InputError(options.points + ":" + std::to_string(points[i].line),
-                         "the point lies on no receiver facing its normal");
+      if (!value) throw lieOnNoReceiver(points[i]);
       results[i].value = *value;
       progress.advance();
     }
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
-    RadiosityOptions radiosityOptions;
-    radiosityOptions.tolerance = options.tolerance;
-    RadiositySolver solver(radiosityOptions);
-    solver.build(posed);
+    RadiositySolver solver(options.radiosity);
+    solver.build(live);
+    walkToFrame(live, options.frame,
+                [&](const SceneChange& change) { solver.update(live, change); });
     for (size_t i = 0; i < points.size(); ++i) {
       const auto sample = solver.sample(points[i].position, points[i].normal);
-      if (!sample)
-        throw InputError(options.points + ":" + std::to_string(points[i].line),
-                         "the point lies on no receiver facing its normal");
+      if (!sample) throw lieOnNoReceiver(points[i]);
       results[i].value = sample->total();
     }
   } else {
-    const RayCaster rays(posed);
-    const MonteCarloEstimator estimator(posed, rays);
-    const MonteCarloOptions mc{options.samples, options.batches, options.seed};
+    walkToFrame(live, options.frame, [](const SceneChange&) {});
+    const MonteCarloEstimator estimator(live.posed(), live.rays());
     Progress progress("probe (Monte Carlo)", (long long)points.size(), common.quiet);
     parallelFor((long long)points.size(), common.threads, [&](long long i) {
-      const MonteCarloEstimate e = estimator.irradiance(points[i].position, points[i].normal, mc);
+      const MonteCarloEstimate e =
+          estimator.irradiance(points[i].position, points[i].normal, options.monteCarlo);
       results[i] = {e.mean, e.standardError};
       progress.advance();
     });

@@ -8,6 +8,7 @@
 #include "frame_range.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/dynamic_scene.h"
 #include "progress.h"
 #include "report_file.h"
 
@@ -49,26 +50,39 @@ nlohmann::json statsJson(const RadiosityStats& s) {
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common) {
   if (options.update != "full")
     throw UsageError("--update " + options.update +
-                     " is not available in this build (available: full)");
-  if (!(options.tolerance > 0)) throw UsageError("--tolerance must be positive");
+                     " is not available in this build (available: full; the line-space update "
+                     "is a later issue)");
   const Scene scene = loadScene(options.scene);
   const FrameRange range = parseFrameRange(options.frames, scene.frames);
   const int first = range.first, last = range.last;
-  RadiosityOptions solverOptions;
-  solverOptions.tolerance = options.tolerance;
-  RadiositySolver solver(solverOptions);
+  // One live scene and one solver held across frames, told each change (the solver recomputes
+  // inside update() until the line-space update lands).
+  DynamicScene live(scene, first);
+  RadiositySolver solver(options.radiosity);
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("radiosity", last - first + 1, common.quiet);
   for (int frame = first; frame <= last; ++frame) {
-    if (frame == first)
-      solver.build(scene, frame);
-    else
-      solver.update(scene, frame);
+    int moved = 0;
+    if (frame == first) {
+      solver.build(live);
+    } else {
+      const SceneChange change = live.changeToFrame(frame);
+      live.apply(change);
+      solver.update(live, change);
+      moved = int(change.moves.size());
+    }
     const RadiosityStats& s = solver.stats();
     nlohmann::json entry = statsJson(s);
     entry["frame"] = frame;
     entry["seconds"] = s.totalSeconds;
+    entry["moved_objects"] = moved;
+    entry["converged"] = s.converged;
     frames.push_back(entry);
+    if (!s.converged)
+      std::fprintf(stderr,
+                   "penumbra: warning: frame %d: the solution did not converge in %d iterations "
+                   "(largest relative change %.3g)\n",
+                   frame, s.iterations, s.residual);
     if (!common.quiet)
       std::fprintf(stderr,
                    "frame %d: %.3f s, %lld links (%lld passive), %lld elements (%lld leaves), "
@@ -82,7 +96,7 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
     nlohmann::json report = statsJson(s);
     report["method"] = "radiosity";
     report["update"] = options.update;
-    report["tolerance"] = options.tolerance;
+    report["tolerance"] = options.radiosity.tolerance;
     writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
   }
   return kOk;

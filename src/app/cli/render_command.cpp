@@ -4,6 +4,8 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "frame_range.h"
+#include "frame_walk.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/dm/irradiance_mesh.h"
 #include "penumbra/lighting/exact_reference.h"
@@ -62,10 +64,10 @@ void writeImages(const RenderOptions& options, const CommonOptions& common, cons
 
 // Every pixel's direct irradiance by the exact reference.
 void renderRaytrace(const RenderOptions& options, const CommonOptions& common,
-                    const PosedScene& posed, const Camera& camera) {
-  const UniformGrid grid(posed);
-  const ExactReference reference(posed, &grid);
-  const RayCaster rays(posed);
+                    const DynamicScene& live, const Camera& camera) {
+  const PosedScene& posed = live.posed();
+  const ExactReference reference(posed, &live.grid());
+  const RayCaster& rays = live.rays();
   Progress progress("render (raytrace)", camera.height, common.quiet);
   RayTraceOptions rt;
   rt.width = camera.width;
@@ -79,11 +81,9 @@ void renderRaytrace(const RenderOptions& options, const CommonOptions& common,
 
 // The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
 void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
-                     const PosedScene& posed, const Camera& camera) {
-  RadiosityOptions radiosityOptions;
-  radiosityOptions.tolerance = options.tolerance;
-  RadiositySolver solver(radiosityOptions);
-  solver.build(posed);
+                     const DynamicScene& live, const Camera& camera) {
+  RadiositySolver solver(options.radiosity);
+  solver.build(live);
   const ColoredMesh mesh = radianceMesh(solver.mesh());
   const auto context = GlContext::createHeadless();
   MeshRenderer renderer;
@@ -94,12 +94,13 @@ void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
 // The exact soft shadows: the discontinuity mesh's faces triangulated, each corner's irradiance
 // from its face's backprojection, drawn with Gouraud shading (radiance ρE/π on receivers, M/π
 // on lights); --edges draws the discontinuity edges over it.
-void renderDm(const RenderOptions& options, const CommonOptions& common, const PosedScene& posed,
+void renderDm(const RenderOptions& options, const CommonOptions& common, const DynamicScene& live,
               const Camera& camera) {
+  const PosedScene& posed = live.posed();
   DiscontinuityMeshEngine engine;
-  engine.build(PosedScene(posed));
+  engine.build(live);
   // Corners about 1/100 of the scene apart resolve the smooth falloff inside large faces.
-  const IrradianceMesh solution = buildIrradianceMesh(engine, posed.bounds.diagonalLength() / 100);
+  const IrradianceMesh solution = buildIrradianceMesh(engine, posed.extent.diagonalLength() / 100);
   const ColoredMesh mesh = radianceMesh(solution, posed);
   std::vector<LineSet> overlays;
   if (options.edges) {
@@ -123,11 +124,13 @@ void renderDm(const RenderOptions& options, const CommonOptions& common, const P
 
 // Shadow volumes: built at frame 0 and updated incrementally to the requested frame.
 void renderVolumes(const RenderOptions& options, const CommonOptions& common, const Scene& scene,
-                   const PosedScene& posed, const Camera& camera) {
+                   const Camera& camera) {
   const auto context = GlContext::createHeadless();
+  DynamicScene live(scene, 0);
   ShadowVolumeEngine engine;
-  engine.build(scene, 0);
-  for (int f = 1; f <= options.frame; ++f) engine.update(scene, f);
+  engine.build(live);
+  walkToFrame(live, options.frame, [&](const SceneChange& change) { engine.update(live, change); });
+  const PosedScene& posed = live.posed();
   ShadowVolumeRenderer renderer;
   ShadowVolumeRenderOptions so;
   so.lightSamples = options.lightSamples;
@@ -160,20 +163,20 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
                      "volumes)");
   if (options.edges && options.method != "dm") throw UsageError("--edges needs --method dm");
   const Scene scene = loadScene(options.scene);
-  if (options.frame < 0 || options.frame >= scene.frames)
-    throw UsageError("--frame " + std::to_string(options.frame) +
-                     " is outside the scene's frames 0.." + std::to_string(scene.frames - 1));
-  const PosedScene posed = poseAt(scene, options.frame);
-  Camera camera = sceneCamera(scene, posed);
+  checkFrame(options.frame, scene.frames);
+  Camera camera = sceneCamera(scene, poseAt(scene, options.frame));
   if (!options.size.empty()) parseSize(options.size, camera);
-  if (options.method == "volumes")
-    renderVolumes(options, common, scene, posed, camera);
-  else if (options.method == "dm")
-    renderDm(options, common, posed, camera);
+  if (options.method == "volumes") {
+    renderVolumes(options, common, scene, camera);
+    return kOk;
+  }
+  const DynamicScene live(scene, options.frame);
+  if (options.method == "dm")
+    renderDm(options, common, live, camera);
   else if (options.method == "radiosity")
-    renderRadiosity(options, common, posed, camera);
+    renderRadiosity(options, common, live, camera);
   else
-    renderRaytrace(options, common, posed, camera);
+    renderRaytrace(options, common, live, camera);
   return kOk;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -83,28 +84,63 @@ nlohmann::json receiversJson(const DiscontinuityMeshEngine& engine) {
 }  // namespace
 
 int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
-  if (options.mode != "full")
-    throw UsageError("--mode " + options.mode +
-                     " is not available in this build (available: full; the incremental update "
-                     "is a later issue)");
+  if (options.mode != "incremental" && options.mode != "full" && options.mode != "verify")
+    throw UsageError("--mode must be incremental, full or verify, got '" + options.mode + "'");
   const Scene scene = loadScene(options.scene);
   const FrameRange range = parseFrameRange(options.frames, scene.frames);
   if (!options.outDirectory.empty()) std::filesystem::create_directories(options.outDirectory);
-  DmOptions engineOptions;
-  engineOptions.eeeSurfaces = !options.noEee;
-  DiscontinuityMeshEngine engine(engineOptions);
+  // incremental and verify: one live scene and one engine held across frames, told each change;
+  // full and verify: a fresh scene and engine per frame.
+  const bool updating = options.mode != "full";
+  const bool verifying = options.mode == "verify";
+  DynamicScene live(scene, range.first);
+  DiscontinuityMeshEngine engine(options.dm);
   nlohmann::json frames = nlohmann::json::array();
+  int differences = 0;
   Progress progress("shadows", range.last - range.first + 1, common.quiet);
   for (int frame = range.first; frame <= range.last; ++frame) {
     const auto start = std::chrono::steady_clock::now();
-    engine.build(scene, frame);
+    std::unique_ptr<DynamicScene> fresh;
+    int moved = 0;
+    if (!updating) {
+      fresh = std::make_unique<DynamicScene>(scene, frame);
+      engine.build(*fresh);
+    } else if (frame == range.first) {
+      engine.build(live);
+    } else {
+      const SceneChange change = live.changeToFrame(frame);
+      live.apply(change);
+      engine.update(live, change);
+      moved = int(change.moves.size());
+    }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const DmStats& s = engine.stats();
     nlohmann::json entry = statsJson(s);
     entry["frame"] = frame;
     entry["seconds"] = seconds;
+    entry["moved_objects"] = moved;
+    entry["recomputed_all"] = s.recomputedAll;
     entry["receivers"] = receiversJson(engine);
+    std::string verdict;
+    if (verifying) {
+      const auto fullStart = std::chrono::steady_clock::now();
+      const DynamicScene scratchScene(scene, frame);
+      DiscontinuityMeshEngine scratch(options.dm);
+      scratch.build(scratchScene);
+      entry["full_seconds"] =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - fullStart).count();
+      const auto difference =
+          firstDifference(buildIrradianceMesh(engine), buildIrradianceMesh(scratch));
+      entry["identical_to_full"] = !difference;
+      if (difference) {
+        ++differences;
+        entry["difference"] = *difference;
+        verdict = ", DIFFERS from a full recomputation: " + *difference;
+      } else {
+        verdict = ", identical to a full recomputation";
+      }
+    }
     frames.push_back(entry);
     if (!options.outDirectory.empty()) {
       const IrradianceMesh mesh = buildIrradianceMesh(engine);
@@ -117,14 +153,22 @@ int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
     if (!common.quiet)
       std::fprintf(stderr,
                    "frame %d: %.3f s, %lld visible segments, mesh %lld vertices / %lld edges / "
-                   "%lld faces\n",
-                   frame, seconds, s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces);
+                   "%lld faces%s\n",
+                   frame, seconds, s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces,
+                   verdict.c_str());
     progress.advance();
   }
   if (!options.report.empty()) {
-    const nlohmann::json report = {
-        {"method", "dm"}, {"mode", options.mode}, {"eee_surfaces", !options.noEee}};
+    const nlohmann::json report = {{"method", "dm"},
+                                   {"mode", options.mode},
+                                   {"eee_surfaces", options.dm.eeeSurfaces},
+                                   {"differences", differences}};
     writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
+  }
+  if (differences > 0) {
+    std::fprintf(stderr, "penumbra: verification failed: %d of %d frames differ\n", differences,
+                 range.last - range.first + 1);
+    return kVerificationFailed;
   }
   return kOk;
 }

@@ -99,7 +99,7 @@ Backprojection BackprojectionBuilder::labelRegion(const VisibleLight& visible, c
   const WorldPolygon& light = scene_.polygons[lightId];
   const Polygon3& lv = light.vertices;
   const double tolerance = 1e-9 * diameter(lv);
-  const double coplanar = 1e-12 * scene_.bounds.diagonalLength();
+  const double coplanar = 1e-12 * scene_.extent.diagonalLength();
   const double pointHeight = light.plane.signedDistance(p);
   bool clippedByHorizon = false;
   for (const Vec3& v : lv) clippedByHorizon = clippedByHorizon || dot(n, v - p) < 0;

@@ -38,7 +38,7 @@ SurfaceId horizonSurface(const PosedScene& scene, PolygonId light) {
 std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const UniformGrid& grid,
                                                   const WorldPolygon& receiver) {
   std::vector<DiscontinuitySegment> out;
-  const double tolerance = 1e-9 * scene.bounds.diagonalLength();
+  const double tolerance = 1e-9 * scene.extent.diagonalLength();
   for (PolygonId id : grid.polygonsInBox(receiver.bounds.expanded(tolerance))) {
     if (id == receiver.id) continue;
     const WorldPolygon& other = scene.polygons[id];
@@ -72,18 +72,33 @@ DiscontinuitySegment extended(DiscontinuitySegment s, double atStart, double atE
 DiscontinuityMeshEngine::DiscontinuityMeshEngine(DmOptions options) : options_(options) {}
 DiscontinuityMeshEngine::~DiscontinuityMeshEngine() = default;
 
-void DiscontinuityMeshEngine::build(const Scene& scene, int frame) {
-  build(poseAt(scene, frame));
+void DiscontinuityMeshEngine::build(const Scene& scene, double frame) {
+  ownedScene_ = std::make_unique<DynamicScene>(scene, frame);
+  build(*ownedScene_);
 }
 
-void DiscontinuityMeshEngine::build(PosedScene posed) {
+void DiscontinuityMeshEngine::build(const PosedScene& posed) {
+  ownedScene_ = std::make_unique<DynamicScene>(posed);
+  build(*ownedScene_);
+}
+
+void DiscontinuityMeshEngine::build(const DynamicScene& scene) {
+  posed_ = &scene.posed();
+  grid_ = &scene.grid();
+  compute();
+}
+
+void DiscontinuityMeshEngine::update(const DynamicScene& scene, const SceneChange& change) {
+  build(scene);
+  stats_.movedObjects = int(change.moves.size());
+}
+
+void DiscontinuityMeshEngine::compute() {
   stats_ = {};
   receivers_.clear();
   surfaces_.clear();
-  posed_ = std::make_unique<PosedScene>(std::move(posed));
   const PosedScene& scene = *posed_;
-  grid_ = std::make_unique<UniformGrid>(scene);
-  reference_ = std::make_unique<ExactReference>(scene, grid_.get());
+  reference_ = std::make_unique<ExactReference>(scene, grid_);
   adjacency_ = std::make_unique<EdgeAdjacency>(scene);
   backprojections_ = std::make_unique<BackprojectionBuilder>(scene, *grid_, *reference_);
   stats_.lights = int(scene.lights.size());
@@ -148,7 +163,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
 
   start = Clock::now();
   eeeSurfaces_.clear();
-  const double chord = kEeeChordTolerance * scene.bounds.diagonalLength();
+  const double chord = kEeeChordTolerance * scene.extent.diagonalLength();
   std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
   std::vector<PolygonId> crossed;
   const auto traceFrom = [&](size_t first, std::map<PolygonId, std::vector<EeeCrossing>>* to) {
@@ -233,7 +248,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
       ++ends[endKey(segment, segment.p0)];
       ++ends[endKey(segment, segment.p1)];
     }
-    const double by = kSegmentExtension * scene.bounds.diagonalLength();
+    const double by = kSegmentExtension * scene.extent.diagonalLength();
     for (const DiscontinuitySegment& segment : perReceiver[receiver.id]) {
       const bool open0 = ends[endKey(segment, segment.p0)] == 1;
       const bool open1 = ends[endKey(segment, segment.p1)] == 1;
@@ -257,7 +272,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
                   stats_.horizonSegments);
     }
     addExtended(contactSegments(scene, *grid_, receiver), stats_.contactSegments);
-    data.mesh.insert(segments, kSegmentSnap * scene.bounds.diagonalLength());
+    data.mesh.insert(segments, kSegmentSnap * scene.extent.diagonalLength());
     stats_.meshVertices += data.mesh.vertexCount();
     stats_.meshEdges += data.mesh.edgeCount();
     stats_.meshFaces += (long long)data.mesh.faces().size();
@@ -267,7 +282,7 @@ void DiscontinuityMeshEngine::build(PosedScene posed) {
   stats_.secondsMeshing = secondsSince(start);
 
   start = Clock::now();
-  const double sliver = kSliverSize * scene.bounds.diagonalLength();
+  const double sliver = kSliverSize * scene.extent.diagonalLength();
   for (auto& [id, data] : receivers_) computeFaceBackprojections(id, data, sliver);
   stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
 }
@@ -421,7 +436,7 @@ bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, cons
                                                   std::vector<int>* compared) const {
   const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
   // Events meeting at one point leave clusters of corners a few ulps apart: one check each.
-  const double apart = 1e-7 * posed_->bounds.diagonalLength();
+  const double apart = 1e-7 * posed_->extent.diagonalLength();
   std::vector<Vec3> checked;
   for (const Polygon3& cycle : mesh.faceBoundary(face.index))
     for (const Vec3& corner : cycle) {
@@ -462,7 +477,7 @@ Rgb DiscontinuityMeshEngine::faceIrradianceAt(PolygonId receiver, int face, cons
 }
 
 double DiscontinuityMeshEngine::nearEee() const {
-  return 2 * kEeeChordTolerance * posed_->bounds.diagonalLength();
+  return 2 * kEeeChordTolerance * posed_->extent.diagonalLength();
 }
 
 Rgb DiscontinuityMeshEngine::atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const {

@@ -25,11 +25,16 @@
 #include "penumbra/dm/receiver_mesh.h"
 #include "penumbra/dm/segment_proximity.h"
 #include "penumbra/scene/scene.h"
+#include "penumbra/spatial/dynamic_scene.h"
 
 namespace penumbra {
 
 struct DmStats {
   int lights = 0;
+  // What the last build or update was told: objects moved by the change (0 for a build), and
+  // whether it recomputed everything (every update does until the incremental update lands).
+  int movedObjects = 0;
+  bool recomputedAll = true;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -109,9 +114,17 @@ class DiscontinuityMeshEngine {
   explicit DiscontinuityMeshEngine(DmOptions options = {});
   ~DiscontinuityMeshEngine();
 
-  // Full computation of frame `frame`.
-  void build(const Scene& scene, int frame);
-  void build(PosedScene posed);
+  // Full computation at the current pose of a shared live scene (which must outlive the engine's
+  // use of it: the engine reads its posed scene and grid).
+  void build(const DynamicScene& scene);
+  // Brings the solution to the scene's new pose after `change` was applied to it. Until the
+  // incremental update (issue 7) lands this recomputes everything, through the same call, so
+  // front ends never change.
+  void update(const DynamicScene& scene, const SceneChange& change);
+  // Conveniences that own a live scene of their own: keyframe pose `frame`, or a static posed
+  // scene (tests, tools).
+  void build(const Scene& scene, double frame);
+  void build(const PosedScene& posed);
 
   // Exact direct irradiance at p (normal n) on the receiver polygon p lies on, from the
   // backprojections of p's face. Nothing when p lies on no receiver.
@@ -173,9 +186,13 @@ class DiscontinuityMeshEngine {
   // point.
   double nearEee() const;
 
+  // The full computation over posed_ and grid_.
+  void compute();
+
   DmOptions options_;
-  std::unique_ptr<PosedScene> posed_;
-  std::unique_ptr<UniformGrid> grid_;
+  std::unique_ptr<DynamicScene> ownedScene_;  // only for the convenience builds
+  const PosedScene* posed_ = nullptr;
+  const UniformGrid* grid_ = nullptr;
   std::unique_ptr<ExactReference> reference_;
   std::unique_ptr<EdgeAdjacency> adjacency_;
   std::unique_ptr<BackprojectionBuilder> backprojections_;

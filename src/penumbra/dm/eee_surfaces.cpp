@@ -341,7 +341,7 @@ class Tracer {
     // Every occluder edge must be a silhouette seen along the line.
     for (EdgeId e : edges_)
       if (!adjacency_.isSilhouetteFrom(e, line->source)) return result;
-    const double reach = 2 * scene_.bounds.diagonalLength() / length(line->direction);
+    const double reach = 2 * scene_.extent.diagonalLength() / length(line->direction);
     const Vec3 end = line->source + line->direction * (line->farContact + reach);
     // Cells in order from the light: stop once the nearest receiver found lies before the next
     // cell's entry (nothing farther can be nearer, and every blocker lies before the contact).

@@ -1,7 +1,9 @@
 #include "penumbra/dm/irradiance_mesh.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdio>
 
 #include "penumbra/dm/face_triangulation.h"
 
@@ -47,6 +49,56 @@ IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine, double
         out.edges.push_back(segment);
   }
   return out;
+}
+
+namespace {
+
+// Bit for bit: -0 differs from 0, and a NaN equals the same NaN (a NaN is a defect of its own,
+// issue 20, but not a difference between two computations).
+bool identical(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+bool identical(const Vec3& a, const Vec3& b) {
+  return identical(a.x, b.x) && identical(a.y, b.y) && identical(a.z, b.z);
+}
+bool identical(const Rgb& a, const Rgb& b) {
+  return identical(a.r, b.r) && identical(a.g, b.g) && identical(a.b, b.b);
+}
+
+std::string describe(const Vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
+  return text;
+}
+
+}  // namespace
+
+std::optional<std::string> firstDifference(const IrradianceMesh& a, const IrradianceMesh& b) {
+  if (a.positions.size() != b.positions.size())
+    return "corner counts differ: " + std::to_string(a.positions.size()) + " vs " +
+           std::to_string(b.positions.size());
+  if (a.indices.size() != b.indices.size())
+    return "triangle counts differ: " + std::to_string(a.indices.size() / 3) + " vs " +
+           std::to_string(b.indices.size() / 3);
+  if (a.edges.size() != b.edges.size())
+    return "edge counts differ: " + std::to_string(a.edges.size()) + " vs " +
+           std::to_string(b.edges.size());
+  for (size_t i = 0; i < a.positions.size(); ++i) {
+    if (!identical(a.positions[i], b.positions[i]) || a.receiverOf[i] != b.receiverOf[i])
+      return "corner " + std::to_string(i) + " differs: " + describe(a.positions[i]) + " vs " +
+             describe(b.positions[i]);
+    if (!identical(a.irradiance[i], b.irradiance[i]))
+      return "irradiance at corner " + std::to_string(i) + " " + describe(a.positions[i]) +
+             " on polygon " + std::to_string(a.receiverOf[i]) + " differs";
+  }
+  for (size_t i = 0; i < a.indices.size(); ++i)
+    if (a.indices[i] != b.indices[i]) return "triangle " + std::to_string(i / 3) + " differs";
+  for (size_t i = 0; i < a.edges.size(); ++i)
+    if (!identical(a.edges[i].first, b.edges[i].first) ||
+        !identical(a.edges[i].second, b.edges[i].second))
+      return "discontinuity edge " + std::to_string(i) + " differs: " + describe(a.edges[i].first) +
+             " vs " + describe(b.edges[i].first);
+  return std::nullopt;
 }
 
 }  // namespace penumbra

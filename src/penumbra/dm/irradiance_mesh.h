@@ -6,6 +6,8 @@
 // stay sharp while the D1/D2 ones are met exactly at the mesh edges.
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "penumbra/base/rgb.h"
@@ -24,5 +26,10 @@ struct IrradianceMesh {
 // Irradiance varies smoothly but not linearly inside a face, so triangles longer than
 // `maxEdgeLength` (0: no limit) are split regularly, every new corner evaluated exactly too.
 IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine, double maxEdgeLength = 0);
+
+// The first difference between two meshes, compared bit for bit (positions, irradiance, receivers,
+// triangles, edges), in words; nothing when they are identical. What `shadows --mode verify`
+// compares between an updated solution and one computed from scratch.
+std::optional<std::string> firstDifference(const IrradianceMesh& a, const IrradianceMesh& b);
 
 }  // namespace penumbra

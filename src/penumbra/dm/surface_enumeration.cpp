@@ -155,7 +155,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
-  const double reach = 2 * scene.bounds.diagonalLength();
+  const double reach = 2 * scene.extent.diagonalLength();
   std::vector<int> seen(adjacency.edges().size(), -1);  // last vertex that examined each edge
 
   for (size_t vi = 0; vi < adjacency.vertices().size(); ++vi) {
@@ -213,7 +213,7 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
                                                                  const UniformGrid& grid,
                                                                  PolygonId light,
                                                                  SurfaceId firstId) {
-  const double reach = 2 * scene.bounds.diagonalLength();
+  const double reach = 2 * scene.extent.diagonalLength();
   std::vector<DiscontinuitySurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
@@ -420,7 +420,7 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     Vec3 x, a, b;
     std::vector<PolygonId> polygons;
   };
-  const double apart = 1e-9 * scene.bounds.diagonalLength();
+  const double apart = 1e-9 * scene.extent.diagonalLength();
   std::map<std::tuple<size_t, EdgeId, long long, long long, long long>, Crossing> crossings;
   for (const DiscontinuitySurface& fan : evSurfaces) {
     if (fan.light != light || fan.kind != SurfaceKind::kEmitterVertexOccluderEdge) continue;

@@ -185,7 +185,7 @@ VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const P
 
   Box3 shaft = boundingBox(lit);
   shaft.extend(p);
-  const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.bounds.diagonalLength();
+  const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.extent.diagonalLength();
 
   ClipperLib::Paths occluders;
   forEachCandidate(shaft, cone, [&](const WorldPolygon& q) {

@@ -52,6 +52,7 @@ void RadiositySolver::solve() {
     stats_.residual = largestChange / scale;
     if (stats_.residual < options_.convergence) break;
   }
+  stats_.converged = stats_.residual < options_.convergence;
 }
 
 }  // namespace penumbra

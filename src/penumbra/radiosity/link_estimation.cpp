@@ -91,7 +91,7 @@ double pointToElement(const Vec3& x, const Vec3& n, const Element& s) {
 
 // Relative slack for "on the plane": a polygon touching a plane counts as lying in it.
 double contactSlack(const PosedScene& scene) {
-  return 1e-9 * std::max(1.0, scene.bounds.diagonalLength());
+  return 1e-9 * std::max(1.0, scene.extent.diagonalLength());
 }
 
 Vec3 vertexMean(const std::array<Vec3, 4>& loop, int count) {

@@ -19,7 +19,10 @@
 #include <cmath>
 
 #include "penumbra/base/check.h"
+#include "penumbra/base/input_error.h"
 #include "penumbra/lighting/exact_reference.h"
+#include "penumbra/scene/closedness.h"
+#include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -51,20 +54,51 @@ void RadiositySolver::clear() {
 }
 
 void RadiositySolver::build(const Scene& scene, double frame) {
-  build(poseAt(scene, frame));
-}
-
-void RadiositySolver::update(const Scene& scene, double newFrame) {
-  build(scene, newFrame);
+  ownedScene_ = std::make_unique<DynamicScene>(scene, frame);
+  build(*ownedScene_);
 }
 
 void RadiositySolver::build(const PosedScene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  ownedScene_ = std::make_unique<DynamicScene>(scene);
+  build(*ownedScene_);
+}
+
+void RadiositySolver::refuseLosslessClosedScene(const DynamicScene& scene) {
+  // Reflectance 1 is legal (direct light does not care), but where every polygon of a closed
+  // scene reflects all of a channel, no light of that channel ever leaves: B grows without bound
+  // and no solver converges. Say so instead of printing whatever the last iteration reached.
+  const PosedScene& posed = scene.posed();
+  for (double Rgb::*channel : {&Rgb::r, &Rgb::g, &Rgb::b}) {
+    bool lossless = !posed.polygons.empty();
+    for (const WorldPolygon& p : posed.polygons)
+      lossless = lossless && posed.materialOf(p).reflectance.*channel >= 1;
+    if (!lossless || !checkClosedness(scene.scene(), posed).isSceneClosed) continue;
+    const char* name = channel == &Rgb::r ? "red" : channel == &Rgb::g ? "green" : "blue";
+    throw InputError(scene.scene().sourcePath,
+                     std::string("radiosity cannot converge: the scene is closed and every "
+                                 "polygon reflects all of the ") +
+                         name +
+                         " light it receives (reflectance 1), so that light never leaves; give "
+                         "some surface a reflectance below 1");
+  }
+}
+
+void RadiositySolver::update(const DynamicScene& scene, const SceneChange&) {
+  build(scene);
+}
+
+void RadiositySolver::build(const DynamicScene& scene) {
+  refuseLosslessClosedScene(scene);
   clear();
-  scene_ = scene;
-  grid_ = std::make_unique<UniformGrid>(scene_);
-  rays_ = std::make_unique<RayCaster>(scene_);
-  visibleParts_ = std::make_unique<ExactReference>(scene_, grid_.get());
+  scene_ = scene.posed();
+  grid_ = &scene.grid();
+  rays_ = &scene.rays();
+  compute();
+}
+
+void RadiositySolver::compute() {
+  const auto start = std::chrono::steady_clock::now();
+  visibleParts_ = std::make_unique<ExactReference>(scene_, grid_);
   buildElements();
   findContacts();
   CHECK(!elements_.empty());
@@ -121,7 +155,7 @@ void RadiositySolver::build(const PosedScene& scene) {
 // paired up.
 void RadiositySolver::findContacts() {
   contacts_.assign(scene_.polygons.size(), {});
-  const double slack = 1e-9 * std::max(1.0, scene_.bounds.diagonalLength());
+  const double slack = 1e-9 * std::max(1.0, scene_.extent.diagonalLength());
   const auto canonicalOffset = [](const Plane& plane) {
     const Vec3& n = plane.normal;
     const double first = n.x != 0 ? n.x : n.y != 0 ? n.y : n.z;
@@ -211,7 +245,7 @@ bool RadiositySolver::isBehind(NodeRef n, const Plane& plane) const {
   // behind it: it can exchange no energy with the plane's front side. Except what lies in the
   // plane facing back at it: surfaces in contact face to face exchange all their energy where
   // they overlap (the limit as the gap closes), so such a node is not behind.
-  const double slack = 1e-9 * std::max(1.0, scene_.bounds.diagonalLength());
+  const double slack = 1e-9 * std::max(1.0, scene_.extent.diagonalLength());
   bool inPlane = true;
   if (n.isCluster()) {
     const Box3 b = clusters_[n.index].bounds;

@@ -29,6 +29,8 @@ class RayCaster;
 class SplitMix;
 class ExactReference;
 class UniformGrid;
+class DynamicScene;
+struct SceneChange;
 
 struct RadiosityOptions {
   // Power oracles (refinement.cpp), all against tolerance x the power emitted by the scene:
@@ -105,6 +107,7 @@ struct RadiosityStats {
   int iterations = 0;                   // gathering iterations of the last solve
   int finalIterations = 0;              // Jacobi iterations of the final solution
   double residual = 0;                  // last largest relative change of B
+  bool converged = true;                // the last solve reached `convergence` in maxIterations
   std::size_t clusterBytes = 0;
   std::size_t elementBytes = 0;
   std::size_t activeLinkBytes = 0;
@@ -147,12 +150,16 @@ class RadiositySolver {
   RadiositySolver(const RadiositySolver&) = delete;
   RadiositySolver& operator=(const RadiositySolver&) = delete;
 
-  // Builds the hierarchy for `scene` at `frame` and solves. Replaces any previous solution.
+  // Builds the hierarchy at the current pose of a shared live scene and solves, with its grid and
+  // ray caster (the scene must outlive the solver's use of it). Replaces any previous solution.
+  void build(const DynamicScene& scene);
+  // The solution at the scene's new pose after `change` was applied to it. For now a full
+  // recomputation through the same call (the line-space hierarchy, issue 8, makes it incremental).
+  void update(const DynamicScene& scene, const SceneChange& change);
+  // Conveniences that own a live scene of their own: keyframe pose `frame`, or a static posed
+  // scene (tests, tools).
   void build(const Scene& scene, double frame);
   void build(const PosedScene& scene);
-  // The solution for another frame. For now a full recomputation (the line-space hierarchy will
-  // make this incremental).
-  void update(const Scene& scene, double newFrame);
 
   // Total irradiance (direct + indirect) at a point on the front side of a receiver; black when
   // the point lies on no polygon facing `normal`.
@@ -258,10 +265,16 @@ class RadiositySolver {
   // Does light pass between x (on polygon p) and y (on polygon q)?
   bool isVisible(PolygonId p, const Vec3& x, PolygonId q, const Vec3& y) const;
 
+  // The full computation over scene_, grid_ and rays_.
+  void compute();
+  // Throws InputError when the scene is closed and some channel's reflectance is 1 everywhere.
+  void refuseLosslessClosedScene(const DynamicScene& scene);
+
   RadiosityOptions options_;
-  PosedScene scene_;
-  std::unique_ptr<UniformGrid> grid_;
-  std::unique_ptr<RayCaster> rays_;
+  std::unique_ptr<DynamicScene> ownedScene_;  // only for the convenience builds
+  PosedScene scene_;                          // the pose solved (a copy: the live one moves)
+  const UniformGrid* grid_ = nullptr;
+  const RayCaster* rays_ = nullptr;
   std::unique_ptr<ExactReference> visibleParts_;  // exact visible form factors (exactVisibility)
   std::vector<Element> elements_;
   std::vector<std::vector<int>> polygonRoots_;    // root elements of each polygon

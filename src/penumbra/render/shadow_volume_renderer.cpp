@@ -347,7 +347,7 @@ Image ShadowVolumeRenderer::render(const PosedScene& scene, ShadowVolumeEngine& 
     pushPolygon(sceneData, polygon, scene.materialOf(polygon), place, eye, bounds);
   const Range sceneRange = rangeSince(0);
   std::vector<Range> mirrorRanges, reflectedRanges;
-  const double inPlaneTolerance = 1e-9 * scene.bounds.diagonalLength();
+  const double inPlaneTolerance = 1e-9 * scene.extent.diagonalLength();
   for (const MirrorPlane& mirror : mirrors) {
     std::size_t start = sceneData.size();
     Box3 ignored;
@@ -459,7 +459,7 @@ Image ShadowVolumeRenderer::render(const PosedScene& scene, ShadowVolumeEngine& 
     // the near-cap polygon offset would otherwise push behind surfaces just beyond the mirror
     // (a line of false shadow along its borders).
     std::copy(reflection.clipPlane, reflection.clipPlane + 4, reflection.volumeClipPlane);
-    reflection.volumeClipPlane[3] -= float(kVolumeClip * scene.bounds.diagonalLength());
+    reflection.volumeClipPlane[3] -= float(kVolumeClip * scene.extent.diagonalLength());
     reflection.viewProjection = transform;
     reflection.eye = eye;
     drawPass(scene, engine, reflection, options);

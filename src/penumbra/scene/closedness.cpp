@@ -24,12 +24,12 @@ LineKey lineKey(const Vec3& a, const Vec3& b, double tolerance) {
   const Vec3 closest = a - d * dot(a, d);  // point of the line nearest the origin
   const auto q = [](double v, double step) { return (long long)std::llround(v / step); };
   constexpr double kDirectionStep = 1e-9;
-  return {q(d.x, kDirectionStep), q(d.y, kDirectionStep), q(d.z, kDirectionStep),
+  return {q(d.x, kDirectionStep),  q(d.y, kDirectionStep),  q(d.z, kDirectionStep),
           q(closest.x, tolerance), q(closest.y, tolerance), q(closest.z, tolerance)};
 }
 
 ObjectClosedness checkChain(int objectIndex, const std::vector<const WorldPolygon*>& polygons,
-                           double tolerance) {
+                            double tolerance) {
   std::map<LineKey, std::vector<DirectedEdge>> lines;
   for (const WorldPolygon* polygon : polygons) {
     const Polygon3& v = polygon->vertices;
@@ -75,7 +75,7 @@ ObjectClosedness checkChain(int objectIndex, const std::vector<const WorldPolygo
 
 ClosednessReport checkClosedness(const Scene& scene, const PosedScene& posed) {
   ClosednessReport report;
-  const double tolerance = 1e-9 * std::max(1.0, posed.bounds.diagonalLength());
+  const double tolerance = 1e-9 * std::max(1.0, posed.extent.diagonalLength());
   std::vector<std::vector<const WorldPolygon*>> byObject(scene.objects.size());
   std::vector<const WorldPolygon*> all, nonEmitting;
   for (const WorldPolygon& p : posed.polygons) {

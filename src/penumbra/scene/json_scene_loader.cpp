@@ -29,7 +29,9 @@ class Node {
   const Json& value() const { return value_; }
   const std::string& path() const { return path_; }
   std::string location() const { return file_ + ": " + (path_.empty() ? "/" : path_); }
-  [[noreturn]] void fail(const std::string& problem) const { throw InputError(location(), problem); }
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(location(), problem);
+  }
 
   Node child(const std::string& key) const { return {value_.at(key), file_, path_ + "/" + key}; }
   Node child(size_t index) const {
@@ -108,9 +110,11 @@ Material parseMaterial(const Node& node, const std::string& name) {
   if (node.has("reflectance")) m.reflectance = node.child("reflectance").rgb();
   if (node.has("emission")) m.emission = node.child("emission").rgb();
   if (node.has("mirror")) m.mirror = node.child("mirror").boolean();
+  // Reflectance 1 (a lossless surface) is legal: MTL files write `Kd 1 1 1` for white. Above 1 a
+  // surface would reflect more than it receives, which is an input error, not something to clamp.
   for (double c : {m.reflectance.r, m.reflectance.g, m.reflectance.b})
-    if (c < 0 || c >= 1)
-      node.child("reflectance").fail("reflectance must lie in [0, 1) per channel");
+    if (c < 0 || c > 1)
+      node.child("reflectance").fail("reflectance must lie in [0, 1] per channel");
   for (double c : {m.emission.r, m.emission.g, m.emission.b})
     if (c < 0) node.child("emission").fail("emission must be non-negative");
   return m;
@@ -167,8 +171,7 @@ Camera parseCamera(const Node& node) {
   if (node.has("fov_y_degrees")) c.fovYDegrees = node.child("fov_y_degrees").number();
   if (node.has("width")) c.width = node.child("width").integer();
   if (node.has("height")) c.height = node.child("height").integer();
-  if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180))
-    node.fail("fov_y_degrees must lie in (0, 180)");
+  if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180)) node.fail("fov_y_degrees must lie in (0, 180)");
   if (c.width <= 0 || c.height <= 0 || c.width > 16384 || c.height > 16384)
     node.fail("width and height must lie in [1, 16384]");
   if (squaredLength(c.target - c.eye) == 0) node.fail("eye and target coincide");
@@ -210,7 +213,8 @@ class JsonSceneParser {
     if (root.has("camera")) scene_.camera = parseCamera(root.child("camera"));
 
     int lastKeyframe = 0;
-    for (const SceneObject& o : scene_.objects) lastKeyframe = std::max(lastKeyframe, o.motion.lastFrame());
+    for (const SceneObject& o : scene_.objects)
+      lastKeyframe = std::max(lastKeyframe, o.motion.lastFrame());
     scene_.frames = lastKeyframe + 1;
     if (root.has("frames")) {
       scene_.frames = root.child("frames").integer();
@@ -228,7 +232,8 @@ class JsonSceneParser {
     }
   }
 
-  // Resolves a material name: JSON materials first, then the OBJ's MTL (Kd, Ke).
+  // Resolves a material name: JSON materials first, then the OBJ's MTL (Kd, Ke). A Kd out of
+  // range is reported at its MTL line, with `location` (where it is used) in the message.
   int resolveMaterial(const std::string& name, const ObjMesh* obj, const std::string& location) {
     if (auto it = materialIndex_.find(name); it != materialIndex_.end()) return it->second;
     if (obj) {
@@ -236,8 +241,13 @@ class JsonSceneParser {
         if (m.name != name) continue;
         Material material{name, m.diffuse, m.emission, false};
         for (double c : {m.diffuse.r, m.diffuse.g, m.diffuse.b})
-          if (c < 0 || c >= 1)
-            throw InputError(location, "MTL material '" + name + "': Kd must lie in [0, 1)");
+          if (!(c >= 0 && c <= 1)) {  // NaN too
+            std::ostringstream kd;
+            kd << m.diffuse.r << " " << m.diffuse.g << " " << m.diffuse.b;
+            throw InputError(m.location, "MTL material '" + name + "': Kd " + kd.str() +
+                                             " must lie in [0, 1] per channel (used at " +
+                                             location + ")");
+          }
         materialIndex_[name] = int(scene_.materials.size());
         scene_.materials.push_back(material);
         return materialIndex_[name];
@@ -312,6 +322,8 @@ class JsonSceneParser {
 
 }  // namespace
 
-Scene loadJsonScene(const std::string& path) { return JsonSceneParser(path).parse(); }
+Scene loadJsonScene(const std::string& path) {
+  return JsonSceneParser(path).parse();
+}
 
 }  // namespace penumbra

@@ -2,10 +2,13 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "penumbra/base/input_error.h"
@@ -14,7 +17,9 @@ namespace penumbra {
 
 namespace {
 
-std::string at(const std::string& path, int line) { return path + ":" + std::to_string(line); }
+std::string at(const std::string& path, int line) {
+  return path + ":" + std::to_string(line);
+}
 
 // Parses a finite double occupying the whole token.
 bool parseFiniteDouble(const std::string& token, double& value) {
@@ -33,7 +38,31 @@ struct FaceStatement {
 struct Prescan {
   std::vector<FaceStatement> faces;
   std::vector<Vec3> vertices;  // parsed with strtod: correctly rounded, unlike tinyobjloader's
+  std::vector<std::vector<std::string>> mtllibs;  // the file names of each `mtllib` statement
 };
+
+// The file names of an `mtllib` statement as tinyobjloader splits them: at spaces, a backslash
+// escaping the next character, the last (possibly empty) name always kept.
+std::vector<std::string> mtllibFileNames(const std::string& rest) {
+  std::vector<std::string> names;
+  std::string name;
+  bool escaping = false;
+  for (char c : rest) {
+    if (escaping) {
+      escaping = false;
+    } else if (c == '\\') {
+      escaping = true;
+      continue;
+    } else if (c == ' ') {
+      if (!name.empty()) names.push_back(name);
+      name.clear();
+      continue;
+    }
+    name += c;
+  }
+  names.push_back(name);
+  return names;
+}
 
 // The checks tinyobjloader does not make, and what it forgets: the line of every `f` statement
 // and the `usemtl` name in force there (tinyobjloader drops names its MTL does not define, but the
@@ -55,8 +84,7 @@ Prescan prescan(const std::string& path) {
       std::string token;
       for (double& value : c) {
         if (!(tokens >> token) || !parseFiniteDouble(token, value))
-          throw InputError(at(path, line),
-                           "vertex needs 3 finite coordinates, got '" + text + "'");
+          throw InputError(at(path, line), "vertex needs 3 finite coordinates, got '" + text + "'");
       }
       result.vertices.push_back({c[0], c[1], c[2]});
       ++vertexCount;
@@ -78,12 +106,61 @@ Prescan prescan(const std::string& path) {
       faceLines.push_back({line, currentMaterial});
     } else if (keyword == "usemtl") {
       tokens >> currentMaterial;
+    } else if (keyword == "mtllib") {
+      // tinyobjloader takes the rest of the line after "mtllib" and one blank.
+      std::string rest = text.substr(std::min(text.size(), text.find("mtllib") + 7));
+      if (!rest.empty() && rest.back() == '\r') rest.pop_back();
+      result.mtllibs.push_back(mtllibFileNames(rest));
     }
   }
   return result;
 }
 
-Rgb toRgb(const tinyobj::real_t* c) { return {double(c[0]), double(c[1]), double(c[2])}; }
+Rgb toRgb(const tinyobj::real_t* c) {
+  return {double(c[0]), double(c[1]), double(c[2])};
+}
+
+struct MtlDefinition {
+  std::string name;
+  std::string location;  // of the last `Kd` after its `newmtl`, else of the `newmtl`
+};
+
+// The material definitions of the MTL files tinyobjloader reads, in its order: for each `mtllib`
+// statement, its first file name (relative to the OBJ's directory) that was not read before and
+// opens; a name read before is skipped. Lines are classified as tinyobjloader does (leading
+// blanks skipped, trailing blanks trimmed, the name is the rest of the `newmtl` line), so the
+// definitions line up with its materials.
+std::vector<MtlDefinition> scanMtlDefinitions(
+    const std::string& objPath, const std::vector<std::vector<std::string>>& mtllibs) {
+  const auto slash = objPath.find_last_of('/');
+  const std::string directory = slash == std::string::npos ? "" : objPath.substr(0, slash + 1);
+  std::vector<MtlDefinition> definitions;
+  std::set<std::string> read;
+  for (const std::vector<std::string>& names : mtllibs) {
+    for (const std::string& name : names) {
+      if (read.count(name)) continue;
+      const std::string mtlPath = directory + name;
+      std::ifstream in(mtlPath);
+      if (!in) continue;
+      read.insert(name);
+      std::string text;
+      for (int line = 1; std::getline(in, text); ++line) {
+        if (!text.empty() && text.back() == '\r') text.pop_back();
+        text.erase(std::min(text.size(), text.find_last_not_of(" \t") + 1));
+        const size_t start = std::min(text.size(), text.find_first_not_of(" \t"));
+        const auto isBlank = [&](size_t i) {
+          return i < text.size() && (text[i] == ' ' || text[i] == '\t');
+        };
+        if (text.compare(start, 6, "newmtl") == 0 && isBlank(start + 6))
+          definitions.push_back({text.substr(start + 7), at(mtlPath, line)});
+        else if (text.compare(start, 2, "Kd") == 0 && isBlank(start + 2) && !definitions.empty())
+          definitions.back().location = at(mtlPath, line);
+      }
+      break;
+    }
+  }
+  return definitions;
+}
 
 }  // namespace
 
@@ -110,8 +187,19 @@ ObjMesh readObjMesh(const std::string& path) {
 
   ObjMesh mesh;
   mesh.path = path;
-  for (const tinyobj::material_t& m : reader.GetMaterials())
-    mesh.mtlMaterials.push_back({m.name, toRgb(m.diffuse), toRgb(m.emission)});
+  // The k-th material named N is the k-th definition named N (names may repeat).
+  const std::vector<MtlDefinition> definitions = scanMtlDefinitions(path, scanned.mtllibs);
+  std::map<std::string, size_t> seen;
+  for (const tinyobj::material_t& m : reader.GetMaterials()) {
+    std::string location = path;
+    size_t k = seen[m.name]++;
+    for (const MtlDefinition& definition : definitions)
+      if (definition.name == m.name && k-- == 0) {
+        location = definition.location;
+        break;
+      }
+    mesh.mtlMaterials.push_back({m.name, toRgb(m.diffuse), toRgb(m.emission), location});
+  }
 
   size_t faceIndex = 0;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {

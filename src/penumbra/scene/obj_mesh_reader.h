@@ -3,7 +3,7 @@
 // triangulation) and the source line of every face so errors can name it.
 // Parsing is tinyobjloader's (double precision); a pre-scan of our own checks what tinyobjloader
 // would silently accept or drop: non-finite coordinates, faces of fewer than 3 vertices, vertex
-// indices out of range.
+// indices out of range; a pre-scan of the MTL files finds the line of each material's `Kd`.
 
 #include <string>
 #include <vector>
@@ -23,6 +23,9 @@ struct ObjMtlMaterial {
   std::string name;
   Rgb diffuse;   // Kd
   Rgb emission;  // Ke
+  // "file.mtl:line" of its last `Kd` statement (the one that counts), or of its `newmtl` when it
+  // has no Kd, so that a range error names the line to fix; the OBJ's path when unknown.
+  std::string location;
 };
 
 struct ObjMesh {

@@ -2,36 +2,96 @@
 
 #include <algorithm>
 
+#include "penumbra/base/check.h"
+#include "penumbra/scene/reach_bounds.h"
+
 namespace penumbra {
 
+namespace {
+
+void posePolygon(const SceneObject& object, int k, const Transform& transform, WorldPolygon& wp) {
+  wp.vertices.clear();
+  wp.vertices.reserve(object.polygons[k].size());
+  for (const Vec3& p : object.polygons[k]) wp.vertices.push_back(transform.applyToPoint(p));
+  // A mirroring transform flips winding; restore counter-clockwise-from-the-front.
+  if (transform.isReflection()) std::reverse(wp.vertices.begin(), wp.vertices.end());
+  wp.plane = supportingPlane(wp.vertices);
+  wp.area = area(wp.vertices);
+  wp.bounds = boundingBox(wp.vertices);
+}
+
+void recomputeBounds(PosedScene& posed) {
+  posed.bounds = {};
+  for (const WorldPolygon& wp : posed.polygons) posed.bounds.extend(wp.bounds);
+}
+
+}  // namespace
+
+void indexObjects(PosedScene& posed) {
+  posed.objectFirstPolygon.clear();
+  posed.objectTransforms.clear();
+  for (const WorldPolygon& wp : posed.polygons) {
+    CHECK_GE(wp.objectIndex, posed.objectCount() - 1);
+    while (posed.objectCount() <= wp.objectIndex) {
+      posed.objectFirstPolygon.push_back(wp.id);
+      posed.objectTransforms.push_back(Transform::identity());
+    }
+  }
+  posed.objectFirstPolygon.push_back(PolygonId(posed.polygons.size()));
+  recomputeBounds(posed);
+  posed.extent = posed.bounds;
+}
+
+std::vector<Transform> transformsAt(const Scene& scene, double frame) {
+  std::vector<Transform> transforms;
+  transforms.reserve(scene.objects.size());
+  for (const SceneObject& object : scene.objects) transforms.push_back(object.transformAt(frame));
+  return transforms;
+}
+
 PosedScene poseAt(const Scene& scene, double frame) {
+  return poseWith(scene, transformsAt(scene, frame), reachBounds(scene), frame);
+}
+
+PosedScene poseWith(const Scene& scene, std::vector<Transform> transforms, const Box3& extent,
+                    double frame) {
+  CHECK_EQ(transforms.size(), scene.objects.size());
   PosedScene posed;
   posed.frame = frame;
   posed.materials = scene.materials;
   posed.polygons.reserve(scene.polygonCount());
+  posed.objectTransforms = std::move(transforms);
   for (int objectIndex = 0; objectIndex < int(scene.objects.size()); ++objectIndex) {
     const SceneObject& object = scene.objects[objectIndex];
-    const Transform transform = object.transformAt(frame);
-    const bool mirrored = transform.isReflection();
-    for (size_t k = 0; k < object.polygons.size(); ++k) {
+    posed.objectFirstPolygon.push_back(PolygonId(posed.polygons.size()));
+    for (int k = 0; k < int(object.polygons.size()); ++k) {
       WorldPolygon wp;
       wp.id = PolygonId(posed.polygons.size());
       wp.objectIndex = objectIndex;
       wp.material = object.polygonMaterial[k];
-      wp.vertices.reserve(object.polygons[k].size());
-      for (const Vec3& p : object.polygons[k]) wp.vertices.push_back(transform.applyToPoint(p));
-      // A mirroring transform flips winding; restore counter-clockwise-from-the-front.
-      if (mirrored) std::reverse(wp.vertices.begin(), wp.vertices.end());
-      wp.plane = supportingPlane(wp.vertices);
-      wp.area = area(wp.vertices);
-      wp.bounds = boundingBox(wp.vertices);
+      posePolygon(object, k, posed.objectTransforms[objectIndex], wp);
       wp.isLight = scene.materials[wp.material].isEmitter();
       if (wp.isLight) posed.lights.push_back(wp.id);
-      posed.bounds.extend(wp.bounds);
       posed.polygons.push_back(std::move(wp));
     }
   }
+  posed.objectFirstPolygon.push_back(PolygonId(posed.polygons.size()));
+  recomputeBounds(posed);
+  posed.extent = extent;
+  posed.extent.extend(posed.bounds);
   return posed;
+}
+
+void applyMoves(const Scene& scene, const SceneChange& change, PosedScene& posed) {
+  for (const ObjectMove& move : change.moves) {
+    CHECK(move.object >= 0 && move.object < posed.objectCount());
+    const SceneObject& object = scene.objects[move.object];
+    posed.objectTransforms[move.object] = move.after;
+    const PolygonId first = posed.objectFirstPolygon[move.object];
+    for (int k = 0; k < int(object.polygons.size()); ++k)
+      posePolygon(object, k, move.after, posed.polygons[first + k]);
+  }
+  recomputeBounds(posed);
 }
 
 }  // namespace penumbra

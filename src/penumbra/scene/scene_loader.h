@@ -24,7 +24,7 @@ inline constexpr int kGltfFramesPerSecond = 24;
 Scene loadGltfScene(const std::string& path);
 
 // Checks every polygon (finite, >= 3 distinct vertices, non-zero area, planar, simple), every
-// material (finite, non-negative, reflectance < 1) and motion (finite, invertible transforms).
+// material (finite, non-negative, reflectance in [0, 1]) and motion (finite, invertible transforms).
 // Throws InputError located by the polygon's origin (file:line or JSON path).
 void validateScene(const Scene& scene);
 

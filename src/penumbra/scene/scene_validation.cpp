@@ -13,7 +13,7 @@ void validateMaterial(const Scene& scene, const Material& m) {
   };
   if (!m.reflectance.isFinite() || !m.emission.isFinite()) bad("non-finite value");
   for (double c : {m.reflectance.r, m.reflectance.g, m.reflectance.b})
-    if (c < 0 || c >= 1) bad("reflectance must lie in [0, 1) per channel");
+    if (c < 0 || c > 1) bad("reflectance must lie in [0, 1] per channel");
   for (double c : {m.emission.r, m.emission.g, m.emission.b})
     if (c < 0) bad("emission must be non-negative");
 }

@@ -61,13 +61,21 @@ void throwIfFailed(RTCDevice device, const char* what) {
 
 struct RayCaster::Impl {
   DeviceHandle device;
-  SceneHandle scene;
-  Vec3 center;         // Embree coordinates are world coordinates minus this
-  double epsilon = 0;  // absolute distance tolerance
-  std::vector<PolygonId> triangleToPolygon;
+  SceneHandle scene;  // top level: one identity instance per object with triangles
+  std::vector<SceneHandle> objectScenes;  // indexed by object; null where it has no triangles
+  Vec3 center;                            // Embree coordinates are world coordinates minus this
+  double epsilon = 0;                     // absolute distance tolerance
+  // Polygon of each triangle, per object (Embree's instance id is the object index).
+  std::vector<std::vector<PolygonId>> triangleToPolygon;
   std::vector<Plane> planes;  // indexed by PolygonId, double precision
+  int triangles = 0;
 
   Vec3 toLocal(const Vec3& p) const { return p - center; }
+  PolygonId polygonOf(unsigned instance, unsigned primitive) const {
+    return triangleToPolygon[instance][primitive];
+  }
+  // (Re)builds object `o`'s Embree scene from the posed polygons and attaches its instance.
+  void buildObject(const PosedScene& posed, int o);
 };
 
 namespace {
@@ -76,9 +84,7 @@ namespace {
 // we passed in, so the query data rides behind it (standard layout, context first).
 struct QueryContext {
   RTCIntersectContext base;
-  const std::vector<PolygonId>* triangleToPolygon;
-  const std::vector<Plane>* planes;
-  double epsilon;
+  const RayCaster::Impl* impl;
   PolygonId ignored;      // never hit, or kNoPolygon
   bool excludeEndpoints;  // segment query: drop polygons whose plane holds an endpoint
   Vec3 from, to;
@@ -88,36 +94,105 @@ void queryFilter(const RTCFilterFunctionNArguments* args) {
   const auto* query = reinterpret_cast<const QueryContext*>(args->context);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    const unsigned primitive = RTCHitN_primID(args->hit, args->N, i);
-    const PolygonId polygon = (*query->triangleToPolygon)[primitive];
+    const PolygonId polygon = query->impl->polygonOf(RTCHitN_instID(args->hit, args->N, i, 0),
+                                                     RTCHitN_primID(args->hit, args->N, i));
     if (polygon == query->ignored) {
       args->valid[i] = 0;
       continue;
     }
     if (query->excludeEndpoints) {
-      const Plane& plane = (*query->planes)[polygon];
-      if (std::abs(plane.signedDistance(query->from)) <= query->epsilon ||
-          std::abs(plane.signedDistance(query->to)) <= query->epsilon)
+      const Plane& plane = query->impl->planes[polygon];
+      if (std::abs(plane.signedDistance(query->from)) <= query->impl->epsilon ||
+          std::abs(plane.signedDistance(query->to)) <= query->impl->epsilon)
         args->valid[i] = 0;
     }
   }
 }
 
-QueryContext makeContext(const std::vector<PolygonId>& triangleToPolygon,
-                         const std::vector<Plane>& planes, double epsilon, PolygonId ignored) {
+QueryContext makeContext(const RayCaster::Impl& impl, PolygonId ignored) {
   QueryContext context;
   rtcInitIntersectContext(&context.base);
   // No filter call per candidate hit unless there is something to filter.
   context.base.filter = ignored == RayCaster::kNoPolygon ? nullptr : queryFilter;
-  context.triangleToPolygon = &triangleToPolygon;
-  context.planes = &planes;
-  context.epsilon = epsilon;
+  context.impl = &impl;
   context.ignored = ignored;
   context.excludeEndpoints = false;
   return context;
 }
 
+// Robust: watertight traversal, no cracks between the triangles of a polygon or between polygons
+// sharing an edge. High quality: each structure is queried far more often than it is rebuilt.
+void setSceneFlags(RTCScene scene) {
+  rtcSetSceneFlags(scene,
+                   RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+}
+
 }  // namespace
+
+void RayCaster::Impl::buildObject(const PosedScene& posed, int o) {
+  RTCDevice dev = device.get();
+  RTCScene top = scene.get();
+  if (objectScenes[o]) {
+    rtcDetachGeometry(top, unsigned(o));
+    objectScenes[o].reset();
+  }
+  triangles -= int(triangleToPolygon[o].size());
+  triangleToPolygon[o].clear();
+  // Triangulate every polygon; vertices shared within a polygon so its triangles meet exactly.
+  std::vector<float> vertices;
+  std::vector<unsigned> indices;
+  for (PolygonId id = posed.objectFirstPolygon[o]; id < posed.objectFirstPolygon[o + 1]; ++id) {
+    const WorldPolygon& polygon = posed.polygons[id];
+    planes[id] = polygon.plane;
+    const unsigned base = unsigned(vertices.size() / 3);
+    const auto polygonTriangles = triangulate(polygon.vertices);
+    if (polygonTriangles.empty()) continue;
+    for (const Vec3& v : polygon.vertices) {
+      const Vec3 local = toLocal(v);
+      vertices.insert(vertices.end(), {float(local.x), float(local.y), float(local.z)});
+    }
+    for (const auto& t : polygonTriangles) {
+      indices.insert(indices.end(),
+                     {base + unsigned(t[0]), base + unsigned(t[1]), base + unsigned(t[2])});
+      triangleToPolygon[o].push_back(id);
+    }
+  }
+  triangles += int(triangleToPolygon[o].size());
+  if (indices.empty()) return;
+
+  objectScenes[o].reset(rtcNewScene(dev));
+  throwIfFailed(dev, "rtcNewScene");
+  RTCScene objectScene = objectScenes[o].get();
+  setSceneFlags(objectScene);
+  RTCGeometry geometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const size_t vertexCount = vertices.size() / 3, triangleCount = indices.size() / 3;
+  // rtcSetNewGeometryBuffer allocates with the padding Embree's SIMD loads need.
+  auto* vertexBuffer = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertexCount));
+  auto* indexBuffer = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangleCount));
+  throwIfFailed(dev, "allocating geometry buffers");
+  std::copy(vertices.begin(), vertices.end(), vertexBuffer);
+  std::copy(indices.begin(), indices.end(), indexBuffer);
+  rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometryByID(objectScene, geometry, 0);
+  rtcReleaseGeometry(geometry);  // the scene holds its own reference
+  rtcCommitScene(objectScene);
+  throwIfFailed(dev, "rtcCommitScene (object)");
+
+  // The identity instance: rays reach the object's triangles unchanged (multiplying by 1 and adding
+  // 0 is exact in float), so hits are those of one flat scene.
+  RTCGeometry instance = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(instance, objectScene);
+  const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+  rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+  rtcCommitGeometry(instance);
+  rtcAttachGeometryByID(top, instance, unsigned(o));
+  rtcReleaseGeometry(instance);
+  throwIfFailed(dev, "attaching an object instance");
+}
 
 RayCaster::RayCaster(const PosedScene& scene) : impl_(std::make_unique<Impl>()) {
   Impl& impl = *impl_;
@@ -133,57 +208,31 @@ RayCaster::RayCaster(const PosedScene& scene) : impl_(std::make_unique<Impl>()) 
   if (rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) == 0)
     throw std::runtime_error("Embree was built without filter functions");
 
-  impl.center = scene.bounds.isEmpty() ? Vec3{} : scene.bounds.center();
-  const double size = scene.bounds.diagonalLength();
+  const Box3& extent = scene.extent.isEmpty() ? scene.bounds : scene.extent;
+  impl.center = extent.isEmpty() ? Vec3{} : extent.center();
+  const double size = extent.diagonalLength();
   impl.epsilon = kRelativeEpsilon * (size > 0 ? size : 1.0);
-
-  // Triangulate every polygon; vertices shared within a polygon so its triangles meet exactly.
-  std::vector<float> vertices;
-  std::vector<unsigned> indices;
-  impl.planes.reserve(scene.polygons.size());
-  for (const WorldPolygon& polygon : scene.polygons) {
-    CHECK_EQ(polygon.id, PolygonId(impl.planes.size()));
-    impl.planes.push_back(polygon.plane);
-    const unsigned base = unsigned(vertices.size() / 3);
-    const auto triangles = triangulate(polygon.vertices);
-    if (triangles.empty()) continue;
-    for (const Vec3& v : polygon.vertices) {
-      const Vec3 local = impl.toLocal(v);
-      vertices.insert(vertices.end(), {float(local.x), float(local.y), float(local.z)});
-    }
-    for (const auto& t : triangles) {
-      indices.insert(indices.end(),
-                     {base + unsigned(t[0]), base + unsigned(t[1]), base + unsigned(t[2])});
-      impl.triangleToPolygon.push_back(polygon.id);
-    }
-  }
 
   impl.scene.reset(rtcNewScene(device));
   throwIfFailed(device, "rtcNewScene");
-  RTCScene rtcScene = impl.scene.get();
-  // Robust: watertight traversal, no cracks between the triangles of a polygon or between polygons
-  // sharing an edge. High quality: the scene is built once per frame and queried many times.
-  rtcSetSceneFlags(rtcScene,
-                   RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
-  rtcSetSceneBuildQuality(rtcScene, RTC_BUILD_QUALITY_HIGH);
-  if (!indices.empty()) {
-    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    const size_t vertexCount = vertices.size() / 3, triangleCount = indices.size() / 3;
-    // rtcSetNewGeometryBuffer allocates with the padding Embree's SIMD loads need.
-    auto* vertexBuffer = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertexCount));
-    auto* indexBuffer = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangleCount));
-    throwIfFailed(device, "allocating geometry buffers");
-    std::copy(vertices.begin(), vertices.end(), vertexBuffer);
-    std::copy(indices.begin(), indices.end(), indexBuffer);
-    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(rtcScene, geometry);
-    rtcReleaseGeometry(geometry);  // the scene holds its own reference
-  }
-  rtcCommitScene(rtcScene);
+  setSceneFlags(impl.scene.get());
+  impl.planes.resize(scene.polygons.size());
+  const int objects = scene.objectCount();
+  impl.objectScenes.resize(objects);
+  impl.triangleToPolygon.resize(objects);
+  for (int o = 0; o < objects; ++o) impl.buildObject(scene, o);
+  rtcCommitScene(impl.scene.get());
   throwIfFailed(device, "rtcCommitScene");
+}
+
+void RayCaster::moveObjects(const PosedScene& scene, const std::vector<int>& objects) {
+  Impl& impl = *impl_;
+  for (int object : objects) {
+    CHECK(object >= 0 && object < int(impl.objectScenes.size()));
+    impl.buildObject(scene, object);
+  }
+  rtcCommitScene(impl.scene.get());
+  throwIfFailed(impl.device.get(), "rtcCommitScene");
 }
 
 RayCaster::~RayCaster() = default;
@@ -194,7 +243,7 @@ double RayCaster::epsilon() const {
   return impl_->epsilon;
 }
 int RayCaster::triangleCount() const {
-  return int(impl_->triangleToPolygon.size());
+  return impl_->triangles;
 }
 
 std::optional<RayHit> RayCaster::intersect(const Vec3& origin, const Vec3& direction, double tMin,
@@ -202,7 +251,7 @@ std::optional<RayHit> RayCaster::intersect(const Vec3& origin, const Vec3& direc
   DCHECK(squaredLength(direction) > 0);
   DCHECK(0 <= tMin && tMin <= tMax);
   const Impl& impl = *impl_;
-  QueryContext context = makeContext(impl.triangleToPolygon, impl.planes, impl.epsilon, ignored);
+  QueryContext context = makeContext(impl, ignored);
   const Vec3 o = impl.toLocal(origin);
   RTCRayHit rayHit;
   rayHit.ray.org_x = float(o.x);
@@ -226,7 +275,7 @@ std::optional<RayHit> RayCaster::intersect(const Vec3& origin, const Vec3& direc
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
   RayHit hit;
-  hit.polygon = impl.triangleToPolygon[rayHit.hit.primID];
+  hit.polygon = impl.polygonOf(rayHit.hit.instID[0], rayHit.hit.primID);
   // Embree found the polygon; the parameter comes from the polygon's double-precision plane unless
   // the ray is too grazing for that to be better conditioned than Embree's float t.
   double t = rayHit.ray.tfar;
@@ -243,7 +292,7 @@ std::optional<RayHit> RayCaster::intersect(const Vec3& origin, const Vec3& direc
 bool RayCaster::isOccluded(const Vec3& from, const Vec3& to) const {
   if (from == to) return false;
   const Impl& impl = *impl_;
-  QueryContext context = makeContext(impl.triangleToPolygon, impl.planes, impl.epsilon, kNoPolygon);
+  QueryContext context = makeContext(impl, kNoPolygon);
   context.base.filter = queryFilter;
   context.excludeEndpoints = true;
   context.from = from;

@@ -1,5 +1,12 @@
 #pragma once
-// Ray and segment queries against the polygons of one posed scene, accelerated by Embree 3.
+// Ray and segment queries against the polygons of a posed scene, accelerated by Embree 3.
+//
+// Structure. Two levels, as Embree recommends for scenes with moving parts: each object's
+// triangles are one Embree scene of their own (in world coordinates), instanced with the identity
+// transform into a top-level scene. Moving an object rebuilds only that object's BVH and the
+// top-level one over the instances (moveObject), so the cost of a move follows the object, not the
+// scene. A caster moved to a pose and one built at that pose hold the same triangles in the same
+// per-object structures, hence give the same hits.
 //
 // Precision. Embree stores triangles and traverses rays in single precision. To keep that error
 // relative to the scene rather than to the distance from the world origin, coordinates are given
@@ -11,11 +18,14 @@
 //    ulps of the largest recentred coordinate) is what callers should use to step off surfaces;
 //  - query points should lie in or near the scene's bounds; far outside, their own float rounding
 //    grows with their distance from the centre.
+// The centre and epsilon() come from PosedScene::extent (every pose the scene can reach), so they
+// do not change when objects move.
 // Returned hit parameters and points are recomputed in double precision on the hit polygon's plane,
 // so they are accurate even though the hit was found in float.
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "penumbra/geometry/vec3.h"
 #include "penumbra/scene/posed_scene.h"
@@ -61,13 +71,18 @@ class RayCaster {
   // blocks it. Equal endpoints are never occluded. Thread-safe.
   bool isOccluded(const Vec3& from, const Vec3& to) const;
 
+  // Re-reads the polygons of `objects` from `scene` (their new pose; the scene's extent unchanged)
+  // and recommits. Not thread-safe: no query may run meanwhile.
+  void moveObjects(const PosedScene& scene, const std::vector<int>& objects);
+
   // Absolute distance tolerance of this scene (see the file comment).
   double epsilon() const;
   // Triangles given to Embree (for statistics).
   int triangleCount() const;
 
+  struct Impl;  // Embree state, defined in ray_caster.cpp
+
  private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 

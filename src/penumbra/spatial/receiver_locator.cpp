@@ -23,7 +23,7 @@ bool isInsideWithin(const Polygon2& loop, const Vec2& q, double tolerance) {
 
 std::optional<ReceiverMatch> locateReceiver(const PosedScene& scene, const UniformGrid& grid,
                                             const Vec3& p, const Vec3& n) {
-  const double tolerance = kReceiverRelativeTolerance * scene.bounds.diagonalLength();
+  const double tolerance = kReceiverRelativeTolerance * scene.extent.diagonalLength();
   Box3 around;
   around.extend(p);
   std::optional<ReceiverMatch> best;

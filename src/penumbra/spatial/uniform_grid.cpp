@@ -19,15 +19,37 @@ GridResolution UniformGrid::chooseResolution(const Box3& bounds, int polygonCoun
 
 UniformGrid::UniformGrid(const PosedScene& scene, std::optional<GridResolution> resolution) {
   // A margin keeps polygons on the box's faces strictly inside the grid.
-  bounds_ = scene.bounds.expanded(1e-9 * std::max(1.0, scene.bounds.diagonalLength()));
-  resolution_ = resolution ? *resolution
-                           : chooseResolution(bounds_, int(scene.polygons.size()));
+  bounds_ = scene.extent.expanded(1e-9 * std::max(1.0, scene.extent.diagonalLength()));
+  resolution_ = resolution ? *resolution : chooseResolution(bounds_, int(scene.polygons.size()));
   const Vec3 d = bounds_.diagonal();
   cellSize_ = {d.x / resolution_.nx, d.y / resolution_.ny, d.z / resolution_.nz};
   cells_.resize(resolution_.cellCount());
   for (const WorldPolygon& polygon : scene.polygons) {
     for (int cell : cellsOverlappingBox(polygon.bounds))
       if (polygonCutsBox(polygon.vertices, cellBounds(cell))) cells_[cell].push_back(polygon.id);
+  }
+}
+
+void UniformGrid::removeObject(const PosedScene& scene, int object) {
+  for (PolygonId id = scene.objectFirstPolygon[object]; id < scene.objectFirstPolygon[object + 1];
+       ++id)
+    forEachCellOverlappingBox(scene.polygons[id].bounds, [&](int cell) {
+      std::vector<PolygonId>& list = cells_[cell];
+      const auto at = std::lower_bound(list.begin(), list.end(), id);
+      if (at != list.end() && *at == id) list.erase(at);
+    });
+}
+
+void UniformGrid::insertObject(const PosedScene& scene, int object) {
+  for (PolygonId id = scene.objectFirstPolygon[object]; id < scene.objectFirstPolygon[object + 1];
+       ++id) {
+    const WorldPolygon& polygon = scene.polygons[id];
+    forEachCellOverlappingBox(polygon.bounds, [&](int cell) {
+      if (!polygonCutsBox(polygon.vertices, cellBounds(cell))) return;
+      std::vector<PolygonId>& list = cells_[cell];
+      // Sorted insertion keeps the list as a fresh build (which inserts in id order) makes it.
+      list.insert(std::lower_bound(list.begin(), list.end(), id), id);
+    });
   }
 }
 
@@ -120,7 +142,8 @@ std::vector<int> UniformGrid::cellsAlongSegment(const Vec3& a, const Vec3& b) co
   for (int i = 0; i < maxSteps; ++i) {
     out.push_back(cellIndex(cell[0], cell[1], cell[2]));
     if (cell == endCell) break;
-    const int axis = tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
+    const int axis =
+        tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
     cell[axis] += step[axis];
     if (cell[axis] < 0 || cell[axis] >= n[axis]) break;
     tMax[axis] += tDelta[axis];

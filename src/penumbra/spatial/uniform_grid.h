@@ -1,7 +1,13 @@
 #pragma once
-// The regular grid over the scene's bounding box (Loscos & Drettakis 1997 §3.1): each cell lists
-// the polygons that cut it. Discontinuity surfaces are cast through the same cells later, so cells
-// are addressed by a stable linear index and the traversal primitives (box, segment) are exposed.
+// The regular grid over the scene's extent (Loscos & Drettakis 1997 §3.1): each cell lists the
+// polygons that cut it, sorted by id. Discontinuity surfaces are cast through the same cells, so
+// cells are addressed by a stable linear index and the traversal primitives (box, segment) are
+// exposed.
+//
+// The grid covers PosedScene::extent, every pose the scene can reach, with a resolution fixed at
+// construction: a cell index means the same region at every frame, and moving an object edits only
+// the lists of the cells its polygons leave and enter (removeObject / insertObject), leaving lists
+// identical to those of a grid built from scratch at the new pose.
 
 #include <array>
 #include <functional>
@@ -25,8 +31,14 @@ class UniformGrid {
   static constexpr int kMaxCellsPerAxis = 256;
   static GridResolution chooseResolution(const Box3& bounds, int polygonCount);
 
-  // Uses chooseResolution unless `resolution` is given.
+  // Over scene.extent; uses chooseResolution unless `resolution` is given.
   explicit UniformGrid(const PosedScene& scene, std::optional<GridResolution> resolution = {});
+
+  // Moving an object: remove its polygons at the old pose, re-pose, insert them at the new pose.
+  // Polygons outside the grid's bounds are clamped to the border cells they would enter; callers
+  // keep every pose inside the extent (DynamicScene re-grids when it grows).
+  void removeObject(const PosedScene& scene, int object);
+  void insertObject(const PosedScene& scene, int object);
 
   const GridResolution& resolution() const { return resolution_; }
   const Box3& bounds() const { return bounds_; }

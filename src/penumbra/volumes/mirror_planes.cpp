@@ -22,7 +22,7 @@ bool liesInPlane(const WorldPolygon& polygon, const Plane& plane, double toleran
 std::vector<MirrorPlane> findMirrorPlanes(const PosedScene& scene) {
   // Relative to the scene so that millimetre and kilometre scenes group alike; mirror polygons
   // of one wall cut by a modeller lie in one plane to far better than this.
-  const double tolerance = 1e-9 * std::max(scene.bounds.diagonalLength(), 1e-300);
+  const double tolerance = 1e-9 * std::max(scene.extent.diagonalLength(), 1e-300);
   std::vector<MirrorPlane> groups;
   for (const WorldPolygon& polygon : scene.polygons) {
     const Material& material = scene.materialOf(polygon);

@@ -9,13 +9,6 @@ namespace penumbra {
 
 namespace {
 
-bool sameTransform(const Transform& a, const Transform& b) {
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (a.linear.m[i][j] != b.linear.m[i][j]) return false;
-  return a.translation == b.translation;
-}
-
 bool isTranslation(const Transform& t) {
   const Mat3 identity;
   for (int i = 0; i < 3; ++i)
@@ -61,6 +54,25 @@ ObjectVolume ShadowVolumeEngine::rebuild(int light, int object) const {
 }
 
 void ShadowVolumeEngine::build(const Scene& scene, double frame) {
+  buildWith(scene, transformsAt(scene, frame), frame);
+}
+
+void ShadowVolumeEngine::build(const DynamicScene& scene) {
+  buildWith(scene.scene(), scene.posed().objectTransforms, scene.frame());
+}
+
+void ShadowVolumeEngine::update(const Scene& scene, double newFrame) {
+  updateTo(scene, transformsAt(scene, newFrame), newFrame);
+}
+
+void ShadowVolumeEngine::update(const DynamicScene& scene, const SceneChange& change) {
+  CHECK_EQ(change.frameAfter, scene.frame());
+  updateTo(scene.scene(), scene.posed().objectTransforms, scene.frame());
+}
+
+void ShadowVolumeEngine::buildWith(const Scene& scene, const std::vector<Transform>& transforms,
+                                   double frame) {
+  CHECK_EQ(transforms.size(), scene.objects.size());
   const auto start = std::chrono::steady_clock::now();
   frame_ = frame;
   objects_.clear();
@@ -71,7 +83,7 @@ void ShadowVolumeEngine::build(const Scene& scene, double frame) {
   for (int o = 0; o < int(scene.objects.size()); ++o) {
     const SceneObject& object = scene.objects[o];
     ObjectState state;
-    state.transform = object.transformAt(frame);
+    state.transform = transforms[o];
     // The mesh's polygons are the object's own; a light polygon is excluded per light, so that
     // a light never shadows itself while it still shadows the other lights.
     state.mesh = buildOccluderMesh(object.polygons);
@@ -98,8 +110,10 @@ void ShadowVolumeEngine::build(const Scene& scene, double frame) {
   stats_.frames.push_back(s);
 }
 
-void ShadowVolumeEngine::update(const Scene& scene, double newFrame) {
+void ShadowVolumeEngine::updateTo(const Scene& scene, const std::vector<Transform>& targets,
+                                  double newFrame) {
   CHECK_EQ(scene.objects.size(), objects_.size());
+  CHECK_EQ(targets.size(), objects_.size());
   const auto start = std::chrono::steady_clock::now();
   VolumeUpdateStats s;
   s.frame = newFrame;
@@ -110,8 +124,8 @@ void ShadowVolumeEngine::update(const Scene& scene, double newFrame) {
   std::vector<Transform> newTransforms(objects_.size());
   for (int o = 0; o < int(objects_.size()); ++o) {
     ObjectState& state = objects_[o];
-    newTransforms[o] = scene.objects[o].transformAt(newFrame);
-    if (sameTransform(newTransforms[o], state.transform)) {
+    newTransforms[o] = targets[o];
+    if (isSameTransform(newTransforms[o], state.transform)) {
       state.hasLinearStep = false;
       continue;
     }

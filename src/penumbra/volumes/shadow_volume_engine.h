@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "penumbra/scene/scene.h"
+#include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/volumes/object_volume.h"
 #include "penumbra/volumes/occluder_mesh.h"
 
@@ -58,10 +59,14 @@ class ShadowVolumeEngine {
  public:
   explicit ShadowVolumeEngine(const VolumeOptions& options = {});
 
-  // Fresh volumes for `frame`, each light at its polygon's area centroid.
-  // Precondition: the scene is valid (as loadScene returns it).
+  // Fresh volumes at the live scene's current pose, each light at its polygon's area centroid.
+  void build(const DynamicScene& scene);
+  // Brings the volumes to the scene's new pose after `change` was applied to it, incrementally:
+  // only the volumes of moved objects and moved lights change (object_volume.h's rules).
+  void update(const DynamicScene& scene, const SceneChange& change);
+  // The same at keyframe poses of a scene (no live scene needed: volumes use no grid or caster).
+  // Precondition: the scene is valid (as loadScene returns it); update follows a build of `scene`.
   void build(const Scene& scene, double frame);
-  // Brings the volumes to `newFrame` incrementally. Precondition: build() was called with `scene`.
   void update(const Scene& scene, double newFrame);
   // Moves light `light`'s point to `position` (a jittered sample on the light, or back to the
   // centroid): the constant-vector rule per object, a rebuild for objects whose silhouette
@@ -85,6 +90,8 @@ class ShadowVolumeEngine {
     int steps = 0;
   };
 
+  void buildWith(const Scene& scene, const std::vector<Transform>& transforms, double frame);
+  void updateTo(const Scene& scene, const std::vector<Transform>& newTransforms, double newFrame);
   int excludedPolygon(int light, int object) const;
   ObjectVolume rebuild(int light, int object) const;
 
