@@ -169,28 +169,46 @@ TEST(DynamicScene, MovingALightSaysSo) {
 }
 
 // The swept bounds of a keyframe step contain the object at every sub-frame of the step, rotations
-// included (checked against the motion's own interpolation, sampled finely).
+// included (checked against the motion's own interpolation, sampled finely), and stay close to
+// the object for an object modelled far from its origin.
 TEST(ReachBounds, SweptBoundsContainEveryInterpolatedPose) {
   SceneObject object;
   object.polygons = {{{1, 0, 0}, {2, 0, 0}, {2, 1, 0.5}, {1, 1, 0.5}},
                      {{0, 0, 3}, {0, 1, 3}, {0.5, 0, 3}}};
+  const Quaternion small = Quaternion::fromAxisAngle({0, 0, 1}, 0.01);  // slerp's nlerp branch
   object.motion = Motion(
       {{0, {Vec3{0, 0, 0}, Quaternion{}, {1, 1, 1}}},
        {1, {Vec3{3, 1, -2}, Quaternion::fromAxisAngle(normalize(Vec3{1, 2, 3}), 2.5), {2, 0.5, 1}}},
-       {4, {Vec3{-1, 0, 0}, Quaternion::fromAxisAngle({0, 1, 0}, -1), {1, 1, 1}}}});
+       {4, {Vec3{-1, 0, 0}, Quaternion::fromAxisAngle({0, 1, 0}, -1), {1, 1, 1}}},
+       {5, {Vec3{-1, 0, 0}, small, {1, 1, 1}}}});
   const Box3 reach = reachBounds(object);
   const auto& keys = object.motion.keyframes();
   for (size_t k = 1; k < keys.size(); ++k) {
-    const Box3 swept =
-        sweptBounds(object.polygons, keys[k - 1].pose.toTransform(), keys[k].pose.toTransform());
-    for (int i = 0; i <= 200; ++i) {
-      const double frame = keys[k - 1].frame + (keys[k].frame - keys[k - 1].frame) * i / 200.0;
+    const Box3 swept = sweptBounds(object, keys[k - 1].frame, keys[k].frame);
+    for (int i = 0; i <= 400; ++i) {
+      const double frame = keys[k - 1].frame + (keys[k].frame - keys[k - 1].frame) * i / 400.0;
       const Box3 at = transformedBounds(object.polygons, object.transformAt(frame));
       const Box3 slack = swept.expanded(1e-12);
       EXPECT_TRUE(slack.contains(at.min) && slack.contains(at.max)) << "frame " << frame;
       EXPECT_TRUE(reach.expanded(1e-12).contains(at.min) && reach.expanded(1e-12).contains(at.max));
     }
   }
+  // A unit square modelled 100 units from its origin, turned by 29 degrees and moved back (the
+  // keyframes put it in place at both ends; in between the linear translation lets it swing
+  // about a unit): the sweep stays within a few object sizes of the true sweep, not the 100-unit
+  // lever arm.
+  SceneObject far;
+  far.polygons = {{{100, 0, 0}, {101, 0, 0}, {101, 1, 0}, {100, 1, 0}}};
+  const Quaternion turn = Quaternion::fromAxisAngle({0, 0, 1}, 0.5);
+  const Vec3 pivot{100.5, 0.5, 0};
+  far.motion = Motion({{0, {Vec3{}, Quaternion{}, {1, 1, 1}}},
+                       {1, {pivot - turn.toMatrix() * pivot, turn, {1, 1, 1}}}});
+  Box3 sampled;
+  for (int i = 0; i <= 1000; ++i)
+    sampled.extend(transformedBounds(far.polygons, far.transformAt(i / 1000.0)));
+  const Box3 swept = sweptBounds(far, 0, 1);
+  EXPECT_TRUE(swept.contains(sampled.min) && swept.contains(sampled.max));
+  EXPECT_LT(swept.diagonalLength(), sampled.diagonalLength() + 4.0);
 }
 
 }  // namespace

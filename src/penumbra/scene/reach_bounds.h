@@ -9,6 +9,7 @@
 #include "penumbra/geometry/box.h"
 #include "penumbra/geometry/polygon.h"
 #include "penumbra/geometry/transform.h"
+#include "penumbra/scene/motion.h"
 
 namespace penumbra {
 
@@ -18,12 +19,17 @@ struct SceneObject;
 // World bounds of object-space polygons under `transform`.
 Box3 transformedBounds(const std::vector<Polygon3>& polygons, const Transform& transform);
 
-// Contains every pose of the polygons between transforms a and b under keyframe interpolation
+// Contains every pose of the polygons between keyframe poses a and b under keyframe interpolation
 // (translation and scale linear, rotation by slerp). Exact (the union of both ends' bounds) when
-// the linear parts are equal, since every point then moves on a segment; otherwise conservative:
-// each point x = T(t) + R(t) S(t) p stays within |S(t) p| of the segment T_a T_b (a rotation keeps
-// lengths), and |S(t) p| <= max(||L_a||_F, ||L_b||_F) |p| (scale interpolates per axis).
-Box3 sweptBounds(const std::vector<Polygon3>& polygons, const Transform& a, const Transform& b);
+// the rotations are equal, since every point then moves on a segment. Otherwise conservative: the
+// step is cut into 64 parts; over a part, the object's bounding-box centre c moves by at most
+// |ΔT| + |ΔS c| + φ |S c| (φ the part's rotation angle: a rotation by φ moves a vector by at most
+// φ times its length), and every point stays within max|s| |p − c| of the centre.
+Box3 sweptBounds(const std::vector<Polygon3>& polygons, const TrsPose& a, const TrsPose& b);
+
+// Every pose the object takes between two frames of its keyframed motion (its static pose's bounds
+// if it has none).
+Box3 sweptBounds(const SceneObject& object, double fromFrame, double toFrame);
 
 // Every pose the object takes over its whole motion (its static transform's bounds if it has none).
 Box3 reachBounds(const SceneObject& object);

@@ -21,8 +21,9 @@ struct ObjectMove {
   int object = -1;
   Transform before, after;  // object-to-world
   Box3 boundsBefore, boundsAfter;
-  // Contains every pose between `before` and `after` under the motion's interpolation
-  // (translation and scale linear, rotation by slerp): what a shaft or motion volume must test.
+  // Contains every pose between `before` and `after`: for a keyframe step, under the motion's
+  // interpolation (translation and scale linear, rotation by slerp); a caller's move is a jump
+  // (both ends only). What a shaft or motion volume must test.
   Box3 swept;
   bool carriesLight = false;  // some polygon of the object emits
 };

@@ -79,7 +79,9 @@ ObjectMove DynamicScene::makeMove(int object, const Transform& after) const {
   move.after = after;
   move.boundsBefore = transformedBounds(o.polygons, move.before);
   move.boundsAfter = transformedBounds(o.polygons, move.after);
-  move.swept = sweptBounds(o.polygons, move.before, move.after);
+  // A caller's move is a jump: no poses in between. Keyframe steps add their sweep.
+  move.swept = move.boundsBefore;
+  move.swept.extend(move.boundsAfter);
   move.carriesLight = objectEmits(scene_, object);
   return move;
 }
@@ -92,6 +94,7 @@ SceneChange DynamicScene::changeToFrame(double frame) const {
     const Transform after = scene_.objects[o].transformAt(frame);
     if (isSameTransform(after, posed_.objectTransforms[o])) continue;
     change.moves.push_back(makeMove(o, after));
+    change.moves.back().swept.extend(sweptBounds(scene_.objects[o], posed_.frame, frame));
     // A caller's move may have left the keyframes' reach; going back is inside the extent.
     change.extentGrows = change.extentGrows || !contains(posed_.extent, change.moves.back().swept);
   }
