@@ -13,7 +13,6 @@
 #include "penumbra/render/gl_errors.h"
 #include "penumbra/render/shader_program.h"
 #include "penumbra/render/view_projection.h"
-#include "penumbra/volumes/light_samples.h"
 #include "penumbra/volumes/mirror_planes.h"
 
 namespace penumbra {
@@ -234,87 +233,84 @@ void ShadowVolumeRenderer::drawPass(const PosedScene& scene, ShadowVolumeEngine&
   drawScene();
 
   std::vector<float> nearCaps, rest;
-  for (int l = 0; l < int(engine.lights().size()); ++l) {
-    const LightVolumes& light = engine.lights()[l];
-    const Material& material = scene.materials[scene.polygons[light.polygon].material];
-    const double lightArea = area(light.worldPolygon);
-    const Vec3 lightNormal = normalize(pass.place.applyToNormal(newellNormal(light.worldPolygon)));
-    const std::vector<Vec3> samples =
-        stratifiedLightSamples(light.worldPolygon, options.lightSamples, options.seed + l);
-    const Vec3 powerPerSample =
-        Vec3{material.emission.r, material.emission.g, material.emission.b} *
-        (lightArea / double(samples.size()));
-    for (const Vec3& sample : samples) {
-      engine.moveLight(l, sample);
-      // --- the volumes of this sample, under the reflection if any ---
-      nearCaps.clear();
-      rest.clear();
-      for (const ObjectVolume& original : light.objects) {
-        std::optional<ObjectVolume> reflected;
-        if (pass.reflected) reflected = reflectedVolume(original, pass.place);
-        const ObjectVolume& v = reflected ? *reflected : original;
-        const double w = v.baseW;
-        auto nearAt = [&](int i) { return v.nearVertices[i] - eye; };
-        auto baseAt = [&](int i) { return v.baseVertices[i] - eye * w; };
-        for (const auto& t : v.capTriangles) {
-          for (int i : t) push4(nearCaps, nearAt(i), 1);
-          for (int k = 2; k >= 0; --k) push4(rest, baseAt(t[k]), w);
+  // The engine jitters each light over its samples and hands over the volumes of each.
+  engine.forEachLightSample(
+      options.lightSamples, options.seed, [&](int l, const Vec3& sample, int sampleCount) {
+        const LightVolumes& light = engine.lights()[l];
+        const Material& material = scene.materials[scene.polygons[light.polygon].material];
+        const Vec3 lightNormal =
+            normalize(pass.place.applyToNormal(newellNormal(light.worldPolygon)));
+        const Vec3 powerPerSample =
+            Vec3{material.emission.r, material.emission.g, material.emission.b} *
+            (area(light.worldPolygon) / double(sampleCount));
+        // --- the volumes of this sample, under the reflection if any ---
+        nearCaps.clear();
+        rest.clear();
+        for (const ObjectVolume& original : light.objects) {
+          std::optional<ObjectVolume> reflected;
+          if (pass.reflected) reflected = reflectedVolume(original, pass.place);
+          const ObjectVolume& v = reflected ? *reflected : original;
+          const double w = v.baseW;
+          auto nearAt = [&](int i) { return v.nearVertices[i] - eye; };
+          auto baseAt = [&](int i) { return v.baseVertices[i] - eye * w; };
+          for (const auto& t : v.capTriangles) {
+            for (int i : t) push4(nearCaps, nearAt(i), 1);
+            for (int k = 2; k >= 0; --k) push4(rest, baseAt(t[k]), w);
+          }
+          for (const auto& [a, b] : v.silhouetteEdges) {
+            // Side quad (b, a, base a, base b), outward.
+            push4(rest, nearAt(b), 1);
+            push4(rest, nearAt(a), 1);
+            push4(rest, baseAt(a), w);
+            push4(rest, nearAt(b), 1);
+            push4(rest, baseAt(a), w);
+            push4(rest, baseAt(b), w);
+          }
         }
-        for (const auto& [a, b] : v.silhouetteEdges) {
-          // Side quad (b, a, base a, base b), outward.
-          push4(rest, nearAt(b), 1);
-          push4(rest, nearAt(a), 1);
-          push4(rest, baseAt(a), w);
-          push4(rest, nearAt(b), 1);
-          push4(rest, baseAt(a), w);
-          push4(rest, baseAt(b), w);
-        }
-      }
-      // --- stencil: z-fail, two-sided, in the count bits only (the owner bits stay) ---
-      glStencilMask(kCountBits);
-      glClear(GL_STENCIL_BUFFER_BIT);
-      glStencilFunc(GL_EQUAL, pass.owner, kOwnerBits);
-      glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-      glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-      glDepthMask(GL_FALSE);
-      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      glDepthFunc(GL_LESS);
-      gl_->volume.use();
-      gl_->volume.setMat4("viewProjection", pass.viewProjection);
-      glUniform4fv(gl_->volume.uniformLocation("clipPlane"), 1, pass.volumeClipPlane);
-      if (pass.clipped) glEnable(GL_CLIP_DISTANCE0);
-      glBindVertexArray(gl_->volumeBuffer.vao);
-      glBindBuffer(GL_ARRAY_BUFFER, gl_->volumeBuffer.vbo);
-      // Near caps are pushed back so that a lit surface counts its own cap as behind it.
-      glEnable(GL_POLYGON_OFFSET_FILL);
-      glPolygonOffset(1.0f, 2.0f);
-      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(nearCaps.size() * sizeof(float)), nearCaps.data(),
-                   GL_STREAM_DRAW);
-      glDrawArrays(GL_TRIANGLES, 0, GLsizei(nearCaps.size() / 4));
-      glDisable(GL_POLYGON_OFFSET_FILL);
-      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(rest.size() * sizeof(float)), rest.data(),
-                   GL_STREAM_DRAW);
-      glDrawArrays(GL_TRIANGLES, 0, GLsizei(rest.size() / 4));
-      glDisable(GL_CLIP_DISTANCE0);
+        // --- stencil: z-fail, two-sided, in the count bits only (the owner bits stay) ---
+        glStencilMask(kCountBits);
+        glClear(GL_STENCIL_BUFFER_BIT);
+        glStencilFunc(GL_EQUAL, pass.owner, kOwnerBits);
+        glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+        glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+        glDepthMask(GL_FALSE);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glDepthFunc(GL_LESS);
+        gl_->volume.use();
+        gl_->volume.setMat4("viewProjection", pass.viewProjection);
+        glUniform4fv(gl_->volume.uniformLocation("clipPlane"), 1, pass.volumeClipPlane);
+        if (pass.clipped) glEnable(GL_CLIP_DISTANCE0);
+        glBindVertexArray(gl_->volumeBuffer.vao);
+        glBindBuffer(GL_ARRAY_BUFFER, gl_->volumeBuffer.vbo);
+        // Near caps are pushed back so that a lit surface counts its own cap as behind it.
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(1.0f, 2.0f);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(nearCaps.size() * sizeof(float)), nearCaps.data(),
+                     GL_STREAM_DRAW);
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(nearCaps.size() / 4));
+        glDisable(GL_POLYGON_OFFSET_FILL);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(rest.size() * sizeof(float)), rest.data(),
+                     GL_STREAM_DRAW);
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(rest.size() / 4));
+        glDisable(GL_CLIP_DISTANCE0);
 
-      // --- light where this pass owns the pixel and the count is zero, adding into the buffer ---
-      glStencilMask(0);
-      glStencilFunc(GL_EQUAL, pass.owner, kOwnerBits | kCountBits);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glDepthFunc(GL_EQUAL);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE);
-      useScene(1);
-      gl_->scene.setVec3("lightPosition", pass.place.applyToPoint(sample) - eye);
-      gl_->scene.setVec3("lightNormal", lightNormal);
-      gl_->scene.setVec3("lightPower", powerPerSample);
-      drawScene();
-      glDisable(GL_BLEND);
-      throwOnGlError("drawing shadow volumes");
-    }
-    engine.moveLight(l, centroid(light.worldPolygon));
-  }
+        // --- light where this pass owns the pixel and the count is zero, adding into the buffer
+        // ---
+        glStencilMask(0);
+        glStencilFunc(GL_EQUAL, pass.owner, kOwnerBits | kCountBits);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthFunc(GL_EQUAL);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        useScene(1);
+        gl_->scene.setVec3("lightPosition", pass.place.applyToPoint(sample) - eye);
+        gl_->scene.setVec3("lightNormal", lightNormal);
+        gl_->scene.setVec3("lightPower", powerPerSample);
+        drawScene();
+        glDisable(GL_BLEND);
+        throwOnGlError("drawing shadow volumes");
+      });
   glDisable(GL_STENCIL_TEST);
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);

@@ -11,10 +11,12 @@
 // Shape of the API: build(scene, frame), update(scene, newFrame), stats(). An incremental update
 // leaves exactly the geometry a fresh build at the new frame would have, to rounding.
 
+#include <cstdint>
 #include <vector>
 
 #include "penumbra/scene/scene.h"
 #include "penumbra/spatial/dynamic_scene.h"
+#include "penumbra/volumes/light_samples.h"
 #include "penumbra/volumes/object_volume.h"
 #include "penumbra/volumes/occluder_mesh.h"
 
@@ -72,6 +74,25 @@ class ShadowVolumeEngine {
   // centroid): the constant-vector rule per object, a rebuild for objects whose silhouette
   // differs. Precondition: 0 <= light < lights().size().
   void moveLight(int light, const Vec3& position);
+
+  // Soft shadows by jittering (McReynolds & Blythe §11.3.2.3): for every light in turn, moves its
+  // point to each of `samples` stratified samples on its polygon (light_samples.h, seeded with
+  // seed + light index) by moveLight's constant-vector rule, calls visit(light, position,
+  // samples) with the volumes of that sample in place, then puts the light back at its centroid.
+  // The drawing (render/shadow_volume_renderer.h) only draws what it is handed. Precondition:
+  // samples >= 1.
+  template <typename Visit>
+  void forEachLightSample(int samples, std::uint64_t seed, Visit&& visit) {
+    for (int l = 0; l < int(lights_.size()); ++l) {
+      const Polygon3 polygon = lights_[l].worldPolygon;
+      const std::vector<Vec3> positions = stratifiedLightSamples(polygon, samples, seed + l);
+      for (const Vec3& position : positions) {
+        moveLight(l, position);
+        visit(l, position, int(positions.size()));
+      }
+      moveLight(l, centroid(polygon));
+    }
+  }
 
   const std::vector<LightVolumes>& lights() const { return lights_; }
   const VolumeStats& stats() const { return stats_; }
