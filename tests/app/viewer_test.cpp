@@ -54,5 +54,26 @@ TEST(PenumbraView, BadOptionsAreReportedBeforeAWindowIsNeeded) {
   EXPECT_EQ(r.exitCode, 1) << r.output;
 }
 
+// --drag OBJECT:dx,dy,dz[:degrees] is checked before a window is needed: malformed text by the
+// option parser, an object name against the loaded scene; both are usage errors naming --drag.
+TEST(PenumbraView, BadDragIsAUsageErrorNamingTheOption) {
+  const std::string desk = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/office-desk/desk-475.json";
+  for (const std::string bad :
+       {"floating-box", "floating-box:1,2", "floating-box:1,2,3,4", "floating-box:1,,3",
+        "floating-box:1,2,x", ":1,2,3", "floating-box:1,2,3:", "floating-box:1,2,3:ten",
+        "floating-box:1,2,3:nan", "floating-box:1e999,0,0", "floating-box: 1,2,3"}) {
+    const RunResult r = runViewerWithoutDisplay(desk + " --drag '" + bad + "'");
+    EXPECT_EQ(r.exitCode, 1) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find("--drag"), std::string::npos) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find(bad), std::string::npos) << bad << ": " << r.output;
+  }
+  const RunResult r = runViewerWithoutDisplay(desk + " --drag floating-box:0,0,0.1" +
+                                              " --drag no-such-box:0.1,0,0:15");
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("--drag"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no object named 'no-such-box'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("floating-box"), std::string::npos) << r.output;  // the names there are
+}
+
 }  // namespace
 }  // namespace penumbra

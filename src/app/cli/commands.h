@@ -57,6 +57,7 @@ struct RenderOptions {
   std::string exr;       // optional raw irradiance output
   RadiosityOptions radiosity;
   bool edges = false;  // dm: draw the discontinuity edges over the image
+  std::string frames;  // dm: A:B, one strip of these frames reached by updates (empty: --frame)
 };
 int runRender(const RenderOptions& options, const CommonOptions& common);
 

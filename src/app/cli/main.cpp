@@ -64,6 +64,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   renderCommand->add_option("--exr", render.exr, "Also write the raw irradiance as OpenEXR");
   renderCommand->add_flag("--edges", render.edges, "dm: draw the discontinuity edges over it");
+  renderCommand->add_option("--frames", render.frames,
+                            "dm: frames A:B side by side in one strip, each reached by updating "
+                            "the engine (per-frame times printed)");
 
   probeCommand
       ->add_option("--tolerance", probe.radiosity.tolerance, "Radiosity: refinement tolerance")

@@ -1,5 +1,7 @@
-// `penumbra render SCENE --method raytrace|radiosity|volumes -o OUT.png`: images of a frame.
+// `penumbra render SCENE --method raytrace|dm|radiosity|volumes -o OUT.png`: images of a frame,
+// or with --frames A:B (dm) a strip of frames reached by updates.
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -28,6 +30,10 @@
 namespace penumbra::cli {
 
 namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 void parseSize(const std::string& size, Camera& camera) {
   const auto x = size.find('x');
@@ -93,12 +99,10 @@ void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
 
 // The exact soft shadows: the discontinuity mesh's faces triangulated, each corner's irradiance
 // from its face's backprojection, drawn with Gouraud shading (radiance ρE/π on receivers, M/π
-// on lights); --edges draws the discontinuity edges over it.
-void renderDm(const RenderOptions& options, const CommonOptions& common, const DynamicScene& live,
-              const Camera& camera) {
-  const PosedScene& posed = live.posed();
-  DiscontinuityMeshEngine engine;
-  engine.build(live);
+// on lights); --edges draws the discontinuity edges over it. `details` gets the mesh's counts.
+Image drawDm(const RenderOptions& options, const DiscontinuityMeshEngine& engine,
+             const PosedScene& posed, const Camera& camera, MeshRenderer& renderer,
+             std::string& details) {
   // Corners about 1/100 of the scene apart resolve the smooth falloff inside large faces.
   const IrradianceMesh solution = buildIrradianceMesh(engine, posed.extent.diagonalLength() / 100);
   const ColoredMesh mesh = radianceMesh(solution, posed);
@@ -112,14 +116,71 @@ void renderDm(const RenderOptions& options, const CommonOptions& common, const D
     }
     overlays.push_back(std::move(lines));
   }
-  const auto context = GlContext::createHeadless();
-  MeshRenderer renderer;
   const DmStats& s = engine.stats();
-  writeImages(options, common, renderer.render(mesh, overlays, camera, camera.width, camera.height),
-              nullptr,
-              "; mesh: " + std::to_string(s.meshVertices) + " vertices, " +
-                  std::to_string(s.meshFaces) + " faces, " +
-                  std::to_string(solution.indices.size() / 3) + " triangles");
+  details = "; mesh: " + std::to_string(s.meshVertices) + " vertices, " +
+            std::to_string(s.meshFaces) + " faces, " + std::to_string(solution.indices.size() / 3) +
+            " triangles";
+  return renderer.render(mesh, overlays, camera, camera.width, camera.height);
+}
+
+MeshRenderer::Options dmDrawing() {
+  MeshRenderer::Options drawing;
+  drawing.unlitBackFaces = true;  // as the ray-traced image: back sides receive nothing
+  return drawing;
+}
+
+void renderDm(const RenderOptions& options, const CommonOptions& common, const DynamicScene& live,
+              const Camera& camera) {
+  DiscontinuityMeshEngine engine;
+  engine.build(live);
+  const auto context = GlContext::createHeadless();
+  MeshRenderer renderer(dmDrawing());
+  std::string details;
+  const Image image = drawDm(options, engine, live.posed(), camera, renderer, details);
+  writeImages(options, common, image, nullptr, details);
+}
+
+// The moving exact soft shadows as one strip, frames A..B left to right: one live scene and one
+// engine held across the frames, each frame reached by update() (the first built), with each
+// frame's update time and a full recomputation's time printed beside it.
+void renderDmStrip(const RenderOptions& options, const CommonOptions& common, const Scene& scene,
+                   const FrameRange& range, const Camera& camera) {
+  DynamicScene live(scene, range.first);
+  DiscontinuityMeshEngine engine;
+  const auto context = GlContext::createHeadless();
+  MeshRenderer renderer(dmDrawing());
+  const int frames = range.last - range.first + 1;
+  Image strip(camera.width * frames, camera.height);
+  std::string details;
+  for (int frame = range.first; frame <= range.last; ++frame) {
+    auto start = std::chrono::steady_clock::now();
+    if (frame == range.first) {
+      engine.build(live);
+    } else {
+      const SceneChange change = live.changeToFrame(frame);
+      live.apply(change);
+      engine.update(live, change);
+    }
+    const double updateSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    {
+      const DynamicScene scratchScene(scene, frame);
+      DiscontinuityMeshEngine scratch;
+      scratch.build(scratchScene);
+    }
+    const double fullSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    const Image image = drawDm(options, engine, live.posed(), camera, renderer, details);
+    const double drawSeconds = secondsSince(start);
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        strip.at((frame - range.first) * camera.width + x, y) = image.at(x, y);
+    std::printf("frame %d: %s %.3f s (full recomputation %.3f s), drawn in %.3f s%s\n", frame,
+                frame == range.first ? "built in" : "updated in", updateSeconds, fullSeconds,
+                drawSeconds, details.c_str());
+    std::fflush(stdout);
+  }
+  writeImages(options, common, strip, nullptr, "");
 }
 
 // Shadow volumes: built at frame 0 and updated incrementally to the requested frame.
@@ -166,6 +227,12 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
   checkFrame(options.frame, scene.frames);
   Camera camera = sceneCamera(scene, poseAt(scene, options.frame));
   if (!options.size.empty()) parseSize(options.size, camera);
+  if (!options.frames.empty()) {
+    if (options.method != "dm") throw UsageError("--frames needs --method dm");
+    if (!options.exr.empty()) throw UsageError("--exr is not available with --frames");
+    renderDmStrip(options, common, scene, parseFrameRange(options.frames, scene.frames), camera);
+    return kOk;
+  }
   if (options.method == "volumes") {
     renderVolumes(options, common, scene, camera);
     return kOk;

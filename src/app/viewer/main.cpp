@@ -1,10 +1,12 @@
 // penumbra-view: an interactive viewer of Penumbra's engines (GLFW + Dear ImGui), and with
 // --screenshot a non-interactive one that tests run under xvfb-run. Exit codes as `penumbra`:
-// 0 ok, 1 usage, 2 bad input or no window (no display, no GL 3.3 core).
+// 0 ok, 1 usage (a --drag naming no object of the scene included), 2 bad input or no window (no
+// display, no GL 3.3 core).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "penumbra/base/input_error.h"
 #include "penumbra/render/render_error.h"
@@ -41,11 +43,18 @@ int main(int argc, char** argv) {
   app.add_option("--size", size, "Image size WxH (default: the scene camera's)");
   app.add_option("--exposure", options.exposure, "Exposure (default: automatic)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--tolerance", options.tolerance, "Radiosity: refinement tolerance")
-      ->check(CLI::PositiveNumber);
+  app.add_option("--tolerance", options.radiosity.tolerance, "Radiosity: refinement tolerance")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--threads", options.threads, "Ray-tracing threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--play", options.play, "Start playing the motion");
+  std::vector<std::string> drags;
+  app.add_option("--drag", drags,
+                 "Move OBJECT by dx,dy,dz, then turn it by degrees about world up through its "
+                 "bounds centre, as a mouse drag would (repeatable, applied in order)")
+      ->type_name("OBJECT:dx,dy,dz[:degrees]")
+      ->allow_extra_args(false);
   app.add_option("--screenshot", options.screenshot,
                  "Non-interactive: write the window's image to this PNG after --frames frames");
   app.add_option("--frames", options.frames,
@@ -57,11 +66,23 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     if (!size.empty() && !parseSize(size, options.width, options.height))
       throw CLI::ValidationError("--size", "must look like 640x480, within 1x1..16384x16384");
+    for (const std::string& text : drags) {
+      const auto drag = penumbra::viewer::parseScriptedDrag(text);
+      if (!drag)
+        throw CLI::ValidationError("--drag",
+                                   "must look like OBJECT:dx,dy,dz or "
+                                   "OBJECT:dx,dy,dz:degrees (finite numbers), got '" +
+                                       text + "'");
+      options.drags.push_back(*drag);
+    }
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 1;
   }
   try {
     return penumbra::viewer::runViewer(options);
+  } catch (const penumbra::viewer::OptionError& e) {
+    std::fprintf(stderr, "penumbra-view: error: %s\n", e.what());
+    return 1;
   } catch (const penumbra::InputError& e) {
     std::fprintf(stderr, "penumbra-view: error: %s\n", e.what());
   } catch (const penumbra::RenderError& e) {

@@ -13,9 +13,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "camera_ray.h"
+#include "drag_script.h"
 #include "image_display.h"
+#include "object_drag.h"
 #include "orbit_camera.h"
 #include "penumbra/base/input_error.h"
 #include "penumbra/render/glfw_context.h"
@@ -30,6 +35,7 @@ namespace {
 
 constexpr int kPanelWidth = 340;  // the ImGui panel sits right of the image, never over it
 constexpr int kMinWindowHeight = 480;
+constexpr double kRotationStepDegrees = 5;  // one Q/E press
 
 // What the keyboard and wheel ask for between two frames (GLFW callbacks fill it; ImGui's
 // backend chains to them).
@@ -39,7 +45,16 @@ struct Input {
   int method = -1;
   bool resetCamera = false;
   bool screenshot = false;
+  int rotateSteps = 0;  // Q: +1 (counter-clockwise seen from above), E: -1
   double scroll = 0;
+};
+
+// What a left-button drag does, chosen when the button goes down.
+enum class MouseDrag {
+  kNone,
+  kOrbit,   // plain drag: the camera
+  kObject,  // Ctrl+drag that picked an object: the object
+  kIgnore,  // until release (Ctrl+click on nothing, or the drag ended by a rotation)
 };
 
 void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
@@ -66,6 +81,12 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods
       break;
     case GLFW_KEY_P:
       input->screenshot = action == GLFW_PRESS;
+      break;
+    case GLFW_KEY_Q:
+      ++input->rotateSteps;
+      break;
+    case GLFW_KEY_E:
+      --input->rotateSteps;
       break;
     case GLFW_KEY_ESCAPE:
       glfwSetWindowShouldClose(window, GLFW_TRUE);
@@ -104,6 +125,32 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+bool isKeyDown(GLFWwindow* window, int left, int right) {
+  return glfwGetKey(window, left) == GLFW_PRESS || glfwGetKey(window, right) == GLFW_PRESS;
+}
+
+// The panel's account of the last pose change: what moved, what the engines did, what it cost.
+void showLastUpdate(const SceneView& view) {
+  const SceneUpdate& u = view.lastUpdate();
+  if (u.changes == 0) return;
+  std::string moved;
+  for (int object : u.movedObjects)
+    moved += (moved.empty() ? "" : ", ") + view.live().scene().objects[object].name;
+  ImGui::TextWrapped("last update: %d change%s, moved %s", u.changes, u.changes == 1 ? "" : "s",
+                     moved.empty() ? "nothing" : moved.c_str());
+  if (u.engine == ViewMethod::kRaytrace)
+    ImGui::TextUnformatted("raytrace: reads the moved grid and caster");
+  else if (u.radiositySolvesAfresh)
+    ImGui::TextUnformatted("radiosity: solved afresh for the image");
+  else
+    ImGui::Text("%s update %.2f ms", methodName(u.engine), 1e3 * u.engineSeconds);
+  ImGui::Text("volumes: %d rebuilt, %d occluder moves,", u.volumes.rebuilds,
+              u.volumes.occluderMoves);
+  ImGui::Text("  %d light moves, %d unchanged", u.volumes.lightMoves, u.volumes.unchanged);
+  ImGui::Text("grid %.3f ms, ray caster %.3f ms", 1e3 * u.gridSeconds, 1e3 * u.raySeconds);
+  if (u.extentGrew) ImGui::TextWrapped("left the scene's reach: grid and caster rebuilt");
+}
+
 }  // namespace
 
 int runViewer(const ViewerOptions& options) {
@@ -114,6 +161,9 @@ int runViewer(const ViewerOptions& options) {
     throw InputError("--frame", "frame " + std::to_string(options.frame) +
                                     " is outside the scene's frames 0.." +
                                     std::to_string(scene.frames - 1));
+  std::vector<int> dragged;  // the object of each scripted drag, resolved before a window is needed
+  for (const ScriptedDrag& drag : options.drags)
+    dragged.push_back(findDraggedObject(scene, drag.object));
   const Camera sceneCam = sceneCamera(scene, poseAt(scene, options.frame));
   const int width = options.width > 0 ? options.width : sceneCam.width;
   const int height = options.height > 0 ? options.height : sceneCam.height;
@@ -133,9 +183,8 @@ int runViewer(const ViewerOptions& options) {
 
   const int sceneFrames = scene.frames;
   const std::string sceneName = std::filesystem::path(options.scene).filename().string();
-  SceneView view(std::move(scene), *method);
+  SceneView view(scene, *method, options.radiosity);
   view.setLightSamples(options.lightSamples);
-  view.setRadiosityTolerance(options.tolerance);
   view.setThreads(options.threads);
   view.setFrame(options.frame);
   OrbitCamera orbit(sceneCam);
@@ -146,7 +195,10 @@ int runViewer(const ViewerOptions& options) {
   float playbackFps = 4;
   int methodIndex = int(*method), lightSamples = options.lightSamples, frame = options.frame;
   double renderSeconds = 0, lastAdvance = 0;
-  bool dragging = false;
+  MouseDrag mouseDrag = MouseDrag::kNone;
+  std::optional<ObjectDrag> objectDrag;
+  int selected = -1;  // the picked object
+  bool dragsApplied = options.drags.empty();
   double dragX = 0, dragY = 0;
   std::string message;
   const auto start = std::chrono::steady_clock::now();
@@ -180,17 +232,64 @@ int runViewer(const ViewerOptions& options) {
       if (input.resetCamera) orbit.reset();
       if (input.scroll != 0) orbit.zoom(std::pow(0.9, input.scroll));
       dirty |= input.step != 0 || input.method >= 0 || input.resetCamera || input.scroll != 0;
+      const int rotateSteps = input.rotateSteps;
       const bool wantScreenshot = input.screenshot;
       input = Input{};
       input.screenshot = wantScreenshot;
+      // Moves update the engines at once: the shown one must be the one chosen now.
+      view.setMethod(ViewMethod(methodIndex));
+      if (rotateSteps != 0 && selected >= 0) {
+        const double degrees = kRotationStepDegrees * rotateSteps;
+        view.moveObject(selected, rotatedAboutUp(view.live().transformOf(selected),
+                                                 view.boundsOf(selected).center(), degrees));
+        // A drag in progress started from the unturned pose; it ends here.
+        if (mouseDrag == MouseDrag::kObject) mouseDrag = MouseDrag::kIgnore;
+        dirty = true;
+      }
+      // The centre of the pixel under the cursor, in image pixels: the image is drawn 1:1 in
+      // framebuffer pixels, which differ from window coordinates on high-DPI screens. So a pick
+      // follows the ray the ray-traced image cast for that pixel.
       double x = 0, y = 0;
       glfwGetCursorPos(context->window(), &x, &y);
+      int windowWidth = 1, windowHeight = 1, fbWidth = 1, fbHeight = 1;
+      glfwGetWindowSize(context->window(), &windowWidth, &windowHeight);
+      context->framebufferSize(fbWidth, fbHeight);
+      const double px = (std::floor(x) + 0.5) * fbWidth / std::max(windowWidth, 1);
+      const double py = (std::floor(y) + 0.5) * fbHeight / std::max(windowHeight, 1);
       const bool down = glfwGetMouseButton(context->window(), GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-      if (down && !dragging && !ImGui::GetIO().WantCaptureMouse && x < width) dragging = true;
-      if (!down) dragging = false;
-      if (dragging && (x != dragX || y != dragY)) {
-        orbit.orbit(-(x - dragX) * 0.01, (y - dragY) * 0.01);
-        dirty = true;
+      if (!down) mouseDrag = MouseDrag::kNone;
+      if (down && mouseDrag == MouseDrag::kNone && !ImGui::GetIO().WantCaptureMouse && px < width &&
+          py < height) {
+        mouseDrag = MouseDrag::kOrbit;
+        if (isKeyDown(context->window(), GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL)) {
+          mouseDrag = MouseDrag::kIgnore;
+          selected = -1;
+          if (const auto hit = view.pick(orbit.camera(), width, height, px, py)) {
+            selected = hit->object;
+            const Camera& c = orbit.camera();
+            const bool inViewPlane =
+                isKeyDown(context->window(), GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
+            objectDrag.emplace(selected, view.live().transformOf(selected), hit->point,
+                               inViewPlane ? c.eye - c.target : kWorldUp);
+            mouseDrag = MouseDrag::kObject;
+          }
+        }
+      }
+      if (x != dragX || y != dragY) {
+        if (mouseDrag == MouseDrag::kOrbit) {
+          orbit.orbit(-(x - dragX) * 0.01, (y - dragY) * 0.01);
+          dirty = true;
+        } else if (mouseDrag == MouseDrag::kObject) {
+          const Camera& c = orbit.camera();
+          // At most a scene's size per drag: a ray grazing the plane would fling the object off.
+          const std::optional<Transform> moved =
+              objectDrag->transformFor(c.eye, cameraRayDirection(c, width, height, px, py),
+                                       view.live().extent().diagonalLength());
+          if (moved) {
+            view.moveObject(objectDrag->object(), *moved);
+            dirty = true;
+          }
+        }
       }
       dragX = x;
       dragY = y;
@@ -206,6 +305,21 @@ int runViewer(const ViewerOptions& options) {
       view.setMethod(ViewMethod(methodIndex));
       view.setLightSamples(lightSamples);
       view.setFrame(frame);
+      // Scripted drags once their frame is reached (in a screenshot run, the last one: a frame
+      // step puts moved objects back on their keyframes).
+      if (!dragsApplied && (interactive || drawn + 1 == options.frames)) {
+        for (std::size_t i = 0; i < options.drags.size(); ++i) {
+          applyScriptedDrag(view, dragged[i], options.drags[i]);
+          selected = dragged[i];
+        }
+        dragsApplied = true;
+        const SceneUpdate& u = view.lastUpdate();
+        std::fprintf(stderr,
+                     "penumbra-view: dragged; last update: %.2f ms (%s), volumes %d rebuilt, "
+                     "%d occluder moves, %d light moves\n",
+                     1e3 * u.engineSeconds, methodName(u.engine), u.volumes.rebuilds,
+                     u.volumes.occluderMoves, u.volumes.lightMoves);
+      }
       const auto t0 = std::chrono::steady_clock::now();
       const Image image = view.render(orbit.camera(), width, height);
       renderSeconds = secondsSince(t0);
@@ -258,6 +372,13 @@ int runViewer(const ViewerOptions& options) {
     ImGui::Text("%dx%d, render %.1f ms", width, height, 1e3 * renderSeconds);
     ImGui::TextWrapped("%s", view.status().c_str());
     if (orbit.isModified()) ImGui::TextUnformatted("camera orbited (R resets)");
+    ImGui::Separator();
+    if (selected >= 0)
+      ImGui::Text("selected: %s", view.live().scene().objects[selected].name.c_str());
+    else
+      ImGui::TextUnformatted("selected: none");
+    ImGui::TextWrapped("Ctrl+click picks, Ctrl+drag moves (+Shift: facing the camera), Q/E turn");
+    showLastUpdate(view);
     if (!message.empty()) ImGui::TextWrapped("%s", message.c_str());
     ImGui::End();
     ImGui::Render();

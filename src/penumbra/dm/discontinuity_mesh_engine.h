@@ -131,12 +131,19 @@ class DiscontinuityMeshEngine {
   std::optional<Rgb> irradiance(const Vec3& p, const Vec3& n) const;
   const DmStats& stats() const { return stats_; }
   const PosedScene& posedScene() const { return *posed_; }
+  const UniformGrid& grid() const { return *grid_; }
   const ReceiverMesh* meshOf(PolygonId receiver) const;
   const std::vector<DiscontinuitySurface>& surfaces() const { return surfaces_; }
   const std::vector<EeeSurface>& eeeSurfaces() const { return eeeSurfaces_; }
   const EdgeAdjacency& adjacency() const { return *adjacency_; }
   // Irradiance at a face sample point of a receiver, for every face (for images and statistics).
   Rgb faceIrradianceAt(PolygonId receiver, int face, const Vec3& p) const;
+  // The exact reference's irradiance at p on `receiver` (the visible light clipped at the point,
+  // no mesh): what faces answered at the point give, and the fallback where a face's
+  // backprojection is degenerate at a point (irradiance_mesh.cpp's contact corners).
+  Rgb irradianceAtPoint(PolygonId receiver, const Vec3& p) const {
+    return atPoint(p, posed_->polygons[receiver].plane.normal, receiver);
+  }
   // Did face verification find labels differing at one of the face's corners (DmOptions)? (A
   // sliver is not unresolved, but is also answered at the point: isAnsweredAtPoint.)
   bool isUnresolved(PolygonId receiver, int face) const {

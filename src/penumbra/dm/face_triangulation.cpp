@@ -4,6 +4,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 
+#include <algorithm>
+#include <cmath>
 #include <list>
 
 namespace penumbra {
@@ -57,12 +59,55 @@ void markDepths(Cdt& cdt) {
 }  // namespace
 
 std::vector<std::array<Vec3, 3>> triangulateFace(const std::vector<std::pair<Vec3, Vec3>>& boundary,
-                                                 const PlaneFrame& frame) {
+                                                 const PlaneFrame& frame, double spacing) {
   Cdt cdt;
+  std::vector<std::pair<Vec2, Vec2>> segments;
   for (const auto& [a, b] : boundary) {
-    const Vec2 p = frame.toLocal(a), q = frame.toLocal(b);
+    Vec2 p = frame.toLocal(a), q = frame.toLocal(b);
     if (p.x == q.x && p.y == q.y) continue;
-    cdt.insert_constraint(Kernel::Point_2(p.x, p.y), Kernel::Point_2(q.x, q.y));
+    // The same points whichever face asks: the ends in a fixed order.
+    if (q.x < p.x || (q.x == p.x && q.y < p.y)) std::swap(p, q);
+    const double len = std::hypot(q.x - p.x, q.y - p.y);
+    const int parts = spacing > 0 ? std::clamp(int(std::ceil(len / spacing)), 1, 4096) : 1;
+    Vec2 from = p;
+    for (int i = 1; i <= parts; ++i) {
+      const Vec2 to = i == parts ? q : p + (q - p) * (double(i) / parts);
+      cdt.insert_constraint(Kernel::Point_2(from.x, from.y), Kernel::Point_2(to.x, to.y));
+      from = to;
+    }
+    segments.push_back({p, q});
+  }
+  if (spacing > 0 && !segments.empty()) {
+    // Interior points on the receiver's lattice (half a step off its origin), not nearer than a
+    // quarter step to the boundary: they subdivide large faces without touching an edge another
+    // face shares.
+    Vec2 lo = segments[0].first, hi = lo;
+    for (const auto& [p, q] : segments)
+      for (const Vec2& r : {p, q}) {
+        lo = {std::min(lo.x, r.x), std::min(lo.y, r.y)};
+        hi = {std::max(hi.x, r.x), std::max(hi.y, r.y)};
+      }
+    const auto nearBoundary = [&](const Vec2& x) {
+      for (const auto& [p, q] : segments) {
+        const Vec2 d = q - p;
+        const double t = std::clamp(
+            ((x.x - p.x) * d.x + (x.y - p.y) * d.y) / std::max(d.x * d.x + d.y * d.y, 1e-300), 0.0,
+            1.0);
+        if (std::hypot(x.x - p.x - d.x * t, x.y - p.y - d.y * t) < 0.25 * spacing) return true;
+      }
+      return false;
+    };
+    const long long i0 = (long long)std::floor(lo.x / spacing - 0.5);
+    const long long i1 = (long long)std::ceil(hi.x / spacing - 0.5);
+    const long long j0 = (long long)std::floor(lo.y / spacing - 0.5);
+    const long long j1 = (long long)std::ceil(hi.y / spacing - 0.5);
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) <= 1'000'000)
+      for (long long i = i0; i <= i1; ++i)
+        for (long long j = j0; j <= j1; ++j) {
+          const Vec2 x{(double(i) + 0.5) * spacing, (double(j) + 0.5) * spacing};
+          if (x.x > lo.x && x.x < hi.x && x.y > lo.y && x.y < hi.y && !nearBoundary(x))
+            cdt.insert(Kernel::Point_2(x.x, x.y));
+        }
   }
   if (cdt.dimension() < 2) return {};  // a degenerate face (all its edges collinear) has no area
   markDepths(cdt);

@@ -21,10 +21,16 @@ struct IrradianceMesh {
   std::vector<PolygonId> receiverOf;   // per position
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from the front
   std::vector<std::pair<Vec3, Vec3>> edges;  // discontinuity edges (not receiver boundaries)
+  // Corners where the face's backprojection is degenerate (NaN or negative: contact corners) and
+  // the exact reference gave the value (irradiance_mesh.cpp, cornerIrradiance).
+  long long referenceCorners = 0;
+  // Faces left out: under a polygon in face-to-face contact with their receiver, seen from nowhere.
+  long long coveredFaces = 0;
 };
 
 // Irradiance varies smoothly but not linearly inside a face, so triangles longer than
-// `maxEdgeLength` (0: no limit) are split regularly, every new corner evaluated exactly too.
+// `maxEdgeLength` (0: no limit) are refined (face_triangulation.h: without T-junctions), every
+// corner evaluated exactly too.
 IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine, double maxEdgeLength = 0);
 
 // The first difference between two meshes, compared bit for bit (positions, irradiance, receivers,

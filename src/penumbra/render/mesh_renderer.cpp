@@ -25,8 +25,9 @@ void main() {
 // which is what radiance at mesh vertices means.
 constexpr const char* kFragmentShader = R"(#version 330 core
 in vec3 vertexRadiance;
+uniform float radianceScale;  // 0 draws back sides unlit (Options::unlitBackFaces)
 layout(location = 0) out vec4 color;
-void main() { color = vec4(vertexRadiance, 1.0); }
+void main() { color = vec4(vertexRadiance * radianceScale, 1.0); }
 )";
 
 constexpr GLuint kPositionAttribute = 0;
@@ -207,11 +208,28 @@ Image MeshRenderer::render(const ColoredMesh& mesh, const std::vector<LineSet>& 
       glPolygonOffset(1.0f, 1.0f);
     }
     glBindVertexArray(gl_->mesh.vao);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.indices.size()), GL_UNSIGNED_INT,
-                   nullptr);
+    const auto count = static_cast<GLsizei>(mesh.indices.size());
+    glUniform1f(gl_->program.uniformLocation("radianceScale"), 1.0f);
+    if (!options_.unlitBackFaces) {
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    } else {
+      // Front sides as they are; then back sides black and pushed further back, so that where a
+      // back side ties in depth with a front side (along every crease of a solid) the front wins.
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+      glCullFace(GL_FRONT);
+      glEnable(GL_POLYGON_OFFSET_FILL);
+      glPolygonOffset(2.0f, 4.0f);
+      glUniform1f(gl_->program.uniformLocation("radianceScale"), 0.0f);
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+      glUniform1f(gl_->program.uniformLocation("radianceScale"), 1.0f);
+      glDisable(GL_CULL_FACE);
+    }
     glDisable(GL_POLYGON_OFFSET_FILL);
   }
   if (!lineRanges.empty()) {
+    glUniform1f(gl_->program.uniformLocation("radianceScale"), 1.0f);
     glDepthFunc(GL_LEQUAL);
     glBindVertexArray(gl_->lines.vao);
     for (const auto& [first, count] : lineRanges) {

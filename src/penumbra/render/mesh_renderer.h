@@ -4,8 +4,9 @@
 // the discontinuity-mesh and radiosity engines, whose solutions are radiance at mesh vertices.
 // Tone mapping happens afterwards on the CPU (tone_mapping.h).
 //
-// Drawing: depth test on, no back-face culling (polygons are visible from both sides), no
-// lighting, no multisampling (pixel values are exact interpolations, so tests can compare them).
+// Drawing: depth test on, no back-face culling (polygons are visible from both sides; see
+// Options::unlitBackFaces), no lighting, no multisampling (pixel values are exact interpolations,
+// so tests can compare them).
 
 #include <cstdint>
 #include <memory>
@@ -45,6 +46,10 @@ class MeshRenderer {
     Rgb background{0, 0, 0};
     // Near / far planes; when unset, clipRangeFor(camera, bounds of mesh and lines) per render.
     std::optional<ClipRange> clip;
+    // Triangles are counter-clockwise seen from their lit side, and their back sides receive
+    // nothing (the exact soft shadows; the ray-traced image draws back sides black too): back
+    // sides are drawn black and lose every depth tie with front sides.
+    bool unlitBackFaces = false;
   };
 
   // Precondition: a GL context (GlContext) is current and stays current for every call; the
