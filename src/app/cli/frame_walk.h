@@ -18,4 +18,19 @@ void walkToFrame(DynamicScene& live, int frame, OnChange&& onChange) {
   }
 }
 
+// Brings `engine` to keyframe `frame` of `live`: built at the first frame of a run, else the step
+// to `frame` applied to the live scene and handed to the engine's update(). Returns how many
+// objects the step moved.
+template <typename Engine>
+int buildOrStep(DynamicScene& live, Engine& engine, int frame, bool isFirst) {
+  if (isFirst) {
+    engine.build(live);
+    return 0;
+  }
+  const SceneChange change = live.changeToFrame(frame);
+  live.apply(change);
+  engine.update(live, change);
+  return int(change.moves.size());
+}
+
 }  // namespace penumbra::cli

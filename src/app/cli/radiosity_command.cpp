@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "frame_range.h"
+#include "frame_walk.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/dynamic_scene.h"
@@ -62,15 +63,7 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("radiosity", last - first + 1, common.quiet);
   for (int frame = first; frame <= last; ++frame) {
-    int moved = 0;
-    if (frame == first) {
-      solver.build(live);
-    } else {
-      const SceneChange change = live.changeToFrame(frame);
-      live.apply(change);
-      solver.update(live, change);
-      moved = int(change.moves.size());
-    }
+    const int moved = buildOrStep(live, solver, frame, frame == first);
     const RadiosityStats& s = solver.stats();
     nlohmann::json entry = statsJson(s);
     entry["frame"] = frame;

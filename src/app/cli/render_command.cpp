@@ -154,13 +154,7 @@ void renderDmStrip(const RenderOptions& options, const CommonOptions& common, co
   std::string details;
   for (int frame = range.first; frame <= range.last; ++frame) {
     auto start = std::chrono::steady_clock::now();
-    if (frame == range.first) {
-      engine.build(live);
-    } else {
-      const SceneChange change = live.changeToFrame(frame);
-      live.apply(change);
-      engine.update(live, change);
-    }
+    buildOrStep(live, engine, frame, frame == range.first);
     const double updateSeconds = secondsSince(start);
     start = std::chrono::steady_clock::now();
     {

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "frame_range.h"
+#include "frame_walk.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/dm/irradiance_mesh.h"
 #include "penumbra/render/ply_writer.h"
@@ -105,13 +106,8 @@ int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
     if (!updating) {
       fresh = std::make_unique<DynamicScene>(scene, frame);
       engine.build(*fresh);
-    } else if (frame == range.first) {
-      engine.build(live);
     } else {
-      const SceneChange change = live.changeToFrame(frame);
-      live.apply(change);
-      engine.update(live, change);
-      moved = int(change.moves.size());
+      moved = buildOrStep(live, engine, frame, frame == range.first);
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
