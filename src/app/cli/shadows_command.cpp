@@ -23,6 +23,13 @@ namespace {
 
 nlohmann::json statsJson(const DmStats& s) {
   return {{"lights", s.lights},
+          {"update",
+           {{"moved_objects", s.movedObjects},
+            {"recomputed_all", s.recomputedAll},
+            {"kept_meshes", s.keptMeshes},
+            {"rebuilt_meshes", s.rebuiltMeshes},
+            {"reused_faces", s.reusedFaces},
+            {"recomputed_faces", s.recomputedFaces}}},
           {"surfaces",
            {{"ev_light_vertex_occluder_edge", s.surfacesEmitterVertex},
             {"ev_light_edge_occluder_vertex", s.surfacesEmitterEdge},
@@ -116,7 +123,6 @@ int runShadows(const ShadowsOptions& options, const CommonOptions& common) {
     entry["frame"] = frame;
     entry["seconds"] = seconds;
     entry["moved_objects"] = moved;
-    entry["recomputed_all"] = s.recomputedAll;
     entry["receivers"] = receiversJson(engine);
     std::string verdict;
     if (verifying) {

@@ -4,7 +4,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 
+#include "penumbra/base/check.h"
 #include "penumbra/dm/crossing_occluders.h"
 #include "penumbra/dm/fan_visibility.h"
 #include "penumbra/dm/receiver_plane_events.h"
@@ -85,16 +87,92 @@ void DiscontinuityMeshEngine::build(const PosedScene& posed) {
 void DiscontinuityMeshEngine::build(const DynamicScene& scene) {
   posed_ = &scene.posed();
   grid_ = &scene.grid();
-  compute();
+  compute(nullptr);
 }
 
 void DiscontinuityMeshEngine::update(const DynamicScene& scene, const SceneChange& change) {
-  build(scene);
+  CHECK(posed_ == &scene.posed() && grid_ == &scene.grid());
+  // A grown extent changes every frame-invariant tolerance; propagation names surfaces by their
+  // position in this frame's list: both recompute everything.
+  if (change.extentGrows || options_.propagateBackprojections) {
+    build(scene);
+  } else {
+    compute(&change);
+  }
   stats_.movedObjects = int(change.moves.size());
 }
 
-void DiscontinuityMeshEngine::compute() {
+bool DiscontinuityMeshEngine::isCrossed(const Box3& region, const SceneChange& change) const {
+  // A face's backprojection, its verification and its answers at points read the polygons
+  // between the face and each light: within the box around the face and the light.
+  const double margin = 1e-9 * posed_->extent.diagonalLength();
+  for (PolygonId light : posed_->lights) {
+    Box3 shaft = region;
+    shaft.extend(posed_->polygons[light].bounds);
+    shaft = shaft.expanded(margin);
+    for (const ObjectMove& move : change.moves)
+      if (shaft.overlaps(move.boundsBefore) || shaft.overlaps(move.boundsAfter)) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// Do two receivers' inputs hold the same segments in the same order (geometry, bit for bit)? The
+// surfaces that made them may sit at other positions in this frame's list (surfaces before them
+// appeared or vanished): `renamed` gets each old id's new one, which must be one to one.
+bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
+                         const std::vector<DiscontinuitySegment>& now,
+                         std::map<SurfaceId, SurfaceId>& renamed) {
+  renamed.clear();
+  if (before.size() != now.size()) return false;
+  std::map<SurfaceId, SurfaceId> inverse;
+  for (size_t i = 0; i < now.size(); ++i) {
+    const DiscontinuitySegment& a = before[i];
+    const DiscontinuitySegment& b = now[i];
+    if (a.receiver != b.receiver || a.p0 != b.p0 || a.p1 != b.p1 || a.u0 != b.u0 || a.u1 != b.u1)
+      return false;
+    const auto [to, added] = renamed.emplace(a.surface, b.surface);
+    const auto [from, back] = inverse.emplace(b.surface, a.surface);
+    if (to->second != b.surface || from->second != a.surface) return false;
+  }
+  for (auto it = renamed.begin(); it != renamed.end();)
+    it = it->first == it->second ? renamed.erase(it) : std::next(it);
+  return true;
+}
+
+// A face's identity across two meshes of one receiver: its sample point and area (both functions
+// of its boundary alone) and its boundary's corners, sorted.
+struct FaceSignature {
+  std::array<double, 4> key;
+  std::vector<std::array<double, 3>> corners;
+  bool operator==(const FaceSignature&) const = default;
+};
+
+FaceSignature signatureOf(const ReceiverMesh& mesh, const MeshFace& face) {
+  FaceSignature signature{{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area},
+                          {}};
+  for (const Polygon3& cycle : mesh.faceBoundary(face.index))
+    for (const Vec3& p : cycle) signature.corners.push_back({p.x, p.y, p.z});
+  std::sort(signature.corners.begin(), signature.corners.end());
+  return signature;
+}
+
+Box3 faceBounds(const ReceiverMesh& mesh, int face) {
+  Box3 box;
+  for (const Polygon3& cycle : mesh.faceBoundary(face))
+    for (const Vec3& p : cycle) box.extend(p);
+  return box;
+}
+
+}  // namespace
+
+void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_ = {};
+  stats_.recomputedAll = change == nullptr;
+  // The previous frame's receivers, offered for reuse when an update finds their inputs equal.
+  std::map<PolygonId, ReceiverData> previous;
+  if (change) previous = std::move(receivers_);
   receivers_.clear();
   surfaces_.clear();
   const PosedScene& scene = *posed_;
@@ -233,10 +311,10 @@ void DiscontinuityMeshEngine::compute() {
   stats_.secondsEee = secondsSince(start);
 
   start = Clock::now();
+  const double sliver = kSliverSize * scene.extent.diagonalLength();
+  double backprojectionSeconds = 0;
   for (const WorldPolygon& receiver : scene.polygons) {
     if (receiver.isLight) continue;
-    ReceiverData data{
-        ReceiverMesh(receiver), {}, SegmentProximity(std::move(eeeOnReceiver[receiver.id]))};
     std::vector<DiscontinuitySegment> segments;
     // Segments end where events meet, computed apart: extend their ends (see extended()). The
     // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they are.
@@ -272,23 +350,98 @@ void DiscontinuityMeshEngine::compute() {
                   stats_.horizonSegments);
     }
     addExtended(contactSegments(scene, *grid_, receiver), stats_.contactSegments);
-    data.mesh.insert(segments, kSegmentSnap * scene.extent.diagonalLength());
+    std::vector<std::pair<Vec3, Vec3>>& eee = eeeOnReceiver[receiver.id];
+
+    // An update keeps what a full computation would compute again: a receiver's mesh where it
+    // would be built from the same segments in the same order (and the same EEE polylines), and a
+    // face's backprojections and verification where the face has the same boundary and nothing
+    // moved through the box between it and a light (old or new bounds).
+    const ReceiverData* before = nullptr;
+    if (change) {
+      const auto old = previous.find(receiver.id);
+      if (old != previous.end()) before = &old->second;
+    }
+    std::map<SurfaceId, SurfaceId> renamed;
+    const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
+    const bool keepMesh = before && !moved && before->eeeInputs == eee &&
+                          sameSegmentGeometry(before->inputs, segments, renamed);
+    ReceiverData data =
+        keepMesh ? std::move(previous.at(receiver.id))
+                 : ReceiverData{ReceiverMesh(receiver), {}, SegmentProximity(eee), {}, eee};
+    if (keepMesh) {
+      data.mesh.renumberSurfaces(renamed);
+      ++stats_.keptMeshes;
+    } else {
+      data.mesh.insert(segments, kSegmentSnap * scene.extent.diagonalLength());
+      ++stats_.rebuiltMeshes;
+    }
+    data.inputs = std::move(segments);
+    // Faces whose data can be taken from the frame before, by their index there.
+    std::vector<int> reusable(data.mesh.faces().size(), -1);
+    const ReceiverData* old = keepMesh ? &data : before;
+    if (old && !moved && old->eeeInputs == eee) {
+      std::map<std::array<double, 4>, std::vector<int>> oldFaces;
+      if (!keepMesh)
+        for (const MeshFace& face : old->mesh.faces())
+          oldFaces[{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area}]
+              .push_back(face.index);
+      for (const MeshFace& face : data.mesh.faces()) {
+        if (isCrossed(faceBounds(data.mesh, face.index), *change)) continue;
+        if (keepMesh) {
+          reusable[face.index] = face.index;
+          continue;
+        }
+        const auto candidates =
+            oldFaces.find({face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area});
+        if (candidates == oldFaces.end()) continue;
+        const FaceSignature signature = signatureOf(data.mesh, face);
+        for (int g : candidates->second)
+          if (signatureOf(old->mesh, old->mesh.faces()[g]) == signature) reusable[face.index] = g;
+      }
+    }
+    std::vector<FaceData> oldFaceData = keepMesh ? std::move(data.faces)
+                                        : before ? before->faces
+                                                 : std::vector<FaceData>{};
+    const auto backprojecting = Clock::now();
+    computeFaceBackprojections(receiver.id, data, sliver, [&](int face) -> const FaceData* {
+      return reusable[face] >= 0 ? &oldFaceData[reusable[face]] : nullptr;
+    });
+    backprojectionSeconds += secondsSince(backprojecting);
+    for (int r : reusable) stats_.reusedFaces += r >= 0 ? 1 : 0;
+    stats_.recomputedFaces += (long long)data.mesh.faces().size();
+    receivers_.emplace(receiver.id, std::move(data));
+  }
+  stats_.recomputedFaces -= stats_.reusedFaces;
+  const double receiverSeconds = secondsSince(start);
+  stats_.secondsBackprojections = backprojectionSeconds - stats_.secondsVerification;
+  stats_.secondsMeshing = receiverSeconds - backprojectionSeconds;
+  tallyReceivers();
+}
+
+void DiscontinuityMeshEngine::tallyReceivers() {
+  for (const auto& [id, data] : receivers_) {
     stats_.meshVertices += data.mesh.vertexCount();
     stats_.meshEdges += data.mesh.edgeCount();
     stats_.meshFaces += (long long)data.mesh.faces().size();
     stats_.meshBytes += data.mesh.memoryBytes();
-    receivers_.emplace(receiver.id, std::move(data));
+    for (const FaceData& faceData : data.faces) {
+      for (const Backprojection& bp : faceData.perLight) {
+        if (faceData.sliver) break;  // no labels computed
+        stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
+        for (const auto& cycle : bp.cycles) {
+          stats_.backprojectionVertices += (long long)cycle.size();
+          stats_.backprojectionBytes += cycle.capacity() * sizeof(BackprojectionVertex);
+        }
+      }
+      stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
+      stats_.sliverFaces += faceData.sliver ? 1 : 0;
+    }
   }
-  stats_.secondsMeshing = secondsSince(start);
-
-  start = Clock::now();
-  const double sliver = kSliverSize * scene.extent.diagonalLength();
-  for (auto& [id, data] : receivers_) computeFaceBackprojections(id, data, sliver);
-  stats_.secondsBackprojections = secondsSince(start) - stats_.secondsVerification;
 }
 
-void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, ReceiverData& data,
-                                                         double sliver) {
+void DiscontinuityMeshEngine::computeFaceBackprojections(
+    PolygonId receiverId, ReceiverData& data, double sliver,
+    const std::function<const FaceData*(int)>& reuse) {
   const PosedScene& scene = *posed_;
   const Vec3& normal = scene.polygons[receiverId].plane.normal;
   const std::vector<MeshFace>& faces = data.mesh.faces();
@@ -407,26 +560,17 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(PolygonId receiverId, R
     queue.assign(1, int(seed));
     for (size_t next = 0; next < queue.size(); ++next) {
       const int f = queue[next];
-      computeFace(f);
+      if (const FaceData* kept = reuse ? reuse(f) : nullptr) {
+        data.faces[f] = *kept;
+      } else {
+        computeFace(f);
+      }
       for (const auto& [g, c] : neighbours[f])
         if (!queued[g]) {
           queued[g] = 1;
           queue.push_back(g);
         }
     }
-  }
-
-  for (const FaceData& faceData : data.faces) {
-    for (const Backprojection& bp : faceData.perLight) {
-      if (faceData.sliver) break;  // no labels computed
-      stats_.unlabelledBackprojections += bp.isLabelled ? 0 : 1;
-      for (const auto& cycle : bp.cycles) {
-        stats_.backprojectionVertices += (long long)cycle.size();
-        stats_.backprojectionBytes += cycle.capacity() * sizeof(BackprojectionVertex);
-      }
-    }
-    stats_.unresolvedFaces += faceData.unresolved ? 1 : 0;
-    stats_.sliverFaces += faceData.sliver ? 1 : 0;
   }
 }
 

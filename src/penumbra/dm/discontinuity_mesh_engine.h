@@ -12,6 +12,7 @@
 // light plane's line and the horizon events on receivers. Face verification
 // (DmOptions::verifyFaces) finds the faces that a missing event crosses; they answer at the point.
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -32,9 +33,13 @@ namespace penumbra {
 struct DmStats {
   int lights = 0;
   // What the last build or update was told: objects moved by the change (0 for a build), and
-  // whether it recomputed everything (every update does until the incremental update lands).
+  // whether it recomputed everything.
   int movedObjects = 0;
   bool recomputedAll = true;
+  // Receiver meshes kept (same segments) and rebuilt; faces whose backprojections and
+  // verification were kept (same boundary, nothing moved between them and a light) and
+  // recomputed: what an update's cost follows.
+  long long keptMeshes = 0, rebuiltMeshes = 0, reusedFaces = 0, recomputedFaces = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -117,9 +122,14 @@ class DiscontinuityMeshEngine {
   // Full computation at the current pose of a shared live scene (which must outlive the engine's
   // use of it: the engine reads its posed scene and grid).
   void build(const DynamicScene& scene);
-  // Brings the solution to the scene's new pose after `change` was applied to it. Until the
-  // incremental update (issue 7) lands this recomputes everything, through the same call, so
-  // front ends never change.
+  // Brings the solution to the scene's new pose after `change` was applied to it (the scene built
+  // from). Every discontinuity surface is enumerated, cast and clipped again; then each receiver
+  // whose segments are the same as before, in the same order, and through whose box towards each
+  // light nothing moved (old or new bounds) keeps its mesh, faces, backprojections and
+  // verification; the others are meshed and backprojected again. What is kept is what a full
+  // computation would compute again from the same inputs, so the result is identical to build()
+  // (`shadows --mode verify`). The paper's local update of the surfaces themselves (motion
+  // volume, per-cell surface lists, local edge deletion) is issue 7's next step.
   void update(const DynamicScene& scene, const SceneChange& change);
   // Conveniences that own a live scene of their own: keyframe pose `frame`, or a static posed
   // scene (tests, tools).
@@ -133,6 +143,11 @@ class DiscontinuityMeshEngine {
   const PosedScene& posedScene() const { return *posed_; }
   const UniformGrid& grid() const { return *grid_; }
   const ReceiverMesh* meshOf(PolygonId receiver) const;
+  // The segments a receiver's mesh was built from, in insertion order (extended, with the
+  // receiver-plane events and contact lines): what an update compares.
+  const std::vector<DiscontinuitySegment>& meshInputs(PolygonId receiver) const {
+    return receivers_.at(receiver).inputs;
+  }
   const std::vector<DiscontinuitySurface>& surfaces() const { return surfaces_; }
   const std::vector<EeeSurface>& eeeSurfaces() const { return eeeSurfaces_; }
   const EdgeAdjacency& adjacency() const { return *adjacency_; }
@@ -180,21 +195,32 @@ class DiscontinuityMeshEngine {
     ReceiverMesh mesh;
     std::vector<FaceData> faces;
     SegmentProximity eeeSegments;  // approximated conics on this receiver
+    // What the mesh was built from: the segments inserted (in order) and the EEE polylines.
+    std::vector<DiscontinuitySegment> inputs;
+    std::vector<std::pair<Vec3, Vec3>> eeeInputs;
   };
   // `compared` (optional, one per light) counts the corners where the labels were compared.
   bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
                            const SegmentProximity& eeeSegments,
                            std::vector<int>* compared = nullptr) const;
   // Backprojections of every face of one receiver, each from scratch or propagated from a
-  // verified neighbour (DmOptions::propagateBackprojections), and face verification.
-  void computeFaceBackprojections(PolygonId receiver, ReceiverData& data, double sliver);
+  // verified neighbour (DmOptions::propagateBackprojections), and face verification; a face for
+  // which `reuse` gives data (an update's unchanged face) takes that instead.
+  void computeFaceBackprojections(PolygonId receiver, ReceiverData& data, double sliver,
+                                  const std::function<const FaceData*(int)>& reuse = {});
   Rgb atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const;
   // Twice the EEE chord tolerance: closer than this to a polyline, answers are computed at the
   // point.
   double nearEee() const;
 
-  // The full computation over posed_ and grid_.
-  void compute();
+  // The computation over posed_ and grid_: everything (change null), or an update after `change`
+  // that keeps the receivers whose inputs are unchanged (see update()).
+  void compute(const SceneChange* change);
+  // Does the change move anything (old or new bounds) through the box around `region` and a
+  // light?
+  bool isCrossed(const Box3& region, const SceneChange& change) const;
+  // The mesh and face statistics summed over the receivers.
+  void tallyReceivers();
 
   DmOptions options_;
   std::unique_ptr<DynamicScene> ownedScene_;  // only for the convenience builds

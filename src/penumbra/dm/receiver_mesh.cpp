@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 
 namespace penumbra {
 
@@ -45,9 +46,24 @@ struct ReceiverMesh::Impl {
     const Vec2 q = frame.toLocal(p);
     return {q.x, q.y};
   }
-  Vec3 toWorld(const Point& p) const {
-    return frame.toWorld({CGAL::to_double(p.x()), CGAL::to_double(p.y())});
+  // Rounded from the exact coordinates, never from the lazy interval approximation: an interval
+  // is tightened by whatever exact predicate last needed the point, so rounding it would depend on
+  // the mesh's history (an update's kept mesh would differ by ulps from one built again).
+  static Vec2 rounded(const Point& p) {
+    return {CGAL::to_double(p.x().exact()), CGAL::to_double(p.y().exact())};
   }
+  Vec3 toWorld(const Point& p) const { return frame.toWorld(rounded(p)); }
+  // Each face's handle by index, and each vertex's world position as computed when the faces
+  // were indexed. Rounding a lazy exact coordinate to double reads its current interval, which
+  // later exact predicates (point location, verification) tighten: read later, the same vertex
+  // could round an ulp differently depending on what was asked of the mesh since it was built.
+  // Fixed at indexing, positions depend on the mesh's construction alone, so a mesh kept by an
+  // update reads exactly as one built again from the same segments.
+  std::vector<Arrangement::Face_const_handle> faceHandles;
+  std::unordered_map<const void*, Vec2> vertexLocal;
+  std::unordered_map<const void*, Vec3> vertexWorld;
+  Vec3 worldOf(Arrangement::Vertex_const_handle v) const { return vertexWorld.at(&*v); }
+  Vec2 localOf(Arrangement::Vertex_const_handle v) const { return vertexLocal.at(&*v); }
 
   // A point strictly inside face f, as far from its boundary as a cheap search finds: on the
   // vertical line through the middle of every slab between consecutive distinct vertex abscissae,
@@ -68,18 +84,16 @@ struct ReceiverMesh::Impl {
     if (f->has_outer_ccb()) collect(f->outer_ccb());
     for (auto h = f->holes_begin(); h != f->holes_end(); ++h) collect(*h);
     if (boundary.empty()) return std::nullopt;
-    // Floating-point coordinates from the lazy points' interval approximations (no exact
-    // construction): the search runs on them, only the chosen point is constructed exactly.
+    // The vertices' rounded coordinates (indexFaces): the search runs on them, only the chosen
+    // point is constructed exactly.
     struct Side {
       double ax, ay, bx, by;
     };
     std::vector<Side> sides;
     std::vector<std::pair<double, Arrangement::Vertex_const_handle>> xs;
     for (auto h : boundary) {
-      const auto& a = h->source()->point().approx();
-      const auto& b = h->target()->point().approx();
-      sides.push_back({CGAL::to_double(a.x()), CGAL::to_double(a.y()), CGAL::to_double(b.x()),
-                       CGAL::to_double(b.y())});
+      const Vec2 a = localOf(h->source()), b = localOf(h->target());
+      sides.push_back({a.x, a.y, b.x, b.y});
       xs.push_back({sides.back().ax, h->source()});
     }
     std::sort(xs.begin(), xs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -145,6 +159,13 @@ struct ReceiverMesh::Impl {
 
   void indexFaces() {
     faces.clear();
+    faceHandles.clear();
+    vertexLocal.clear();
+    vertexWorld.clear();
+    for (auto v = arrangement.vertices_begin(); v != arrangement.vertices_end(); ++v) {
+      vertexLocal.emplace(&*v, rounded(v->point()));
+      vertexWorld.emplace(&*v, frame.toWorld(vertexLocal.at(&*v)));
+    }
     for (auto f = arrangement.faces_begin(); f != arrangement.faces_end(); ++f) {
       f->set_data(-1);
       if (f->is_unbounded()) continue;
@@ -157,9 +178,8 @@ struct ReceiverMesh::Impl {
         double sum = 0;
         auto c = first;
         do {
-          const Point& a = c->source()->point();
-          const Point& b = c->target()->point();
-          sum += CGAL::to_double(a.x() * b.y() - b.x() * a.y());
+          const Vec2 a = localOf(c->source()), b = localOf(c->target());
+          sum += a.x * b.y - b.x * a.y;
         } while (++c != first);
         return sum;
       };
@@ -167,6 +187,7 @@ struct ReceiverMesh::Impl {
       for (auto h = f->holes_begin(); h != f->holes_end(); ++h) twiceArea += ccbArea(*h);
       f->set_data(int(faces.size()));
       faces.push_back({int(faces.size()), sample, twiceArea / 2});
+      faceHandles.push_back(f);
     }
   }
 };
@@ -321,6 +342,21 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
   impl_->indexFaces();
 }
 
+void ReceiverMesh::renumberSurfaces(const std::map<SurfaceId, SurfaceId>& renamed) {
+  if (renamed.empty()) return;
+  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
+    const auto& data = e->curve().data();
+    bool touched = false;
+    Traits::Data_container names;
+    for (SurfaceId id : data) {
+      const auto it = renamed.find(id);
+      touched = touched || it != renamed.end();
+      names.insert(it == renamed.end() ? id : it->second);
+    }
+    if (touched) impl_->arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
+  }
+}
+
 void ReceiverMesh::removeSurface(SurfaceId surface) {
   std::vector<Arrangement::Halfedge_handle> doomed;
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
@@ -376,8 +412,8 @@ std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> ReceiverMe
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> out;
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
     std::vector<SurfaceId> surfaces(e->curve().data().begin(), e->curve().data().end());
-    out.push_back({{impl_->toWorld(e->source()->point()), impl_->toWorld(e->target()->point())},
-                   std::move(surfaces)});
+    out.push_back(
+        {{impl_->worldOf(e->source()), impl_->worldOf(e->target())}, std::move(surfaces)});
   }
   return out;
 }
@@ -385,36 +421,37 @@ std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> ReceiverMe
 std::vector<Vec3> ReceiverMesh::vertexPositions() const {
   std::vector<Vec3> out;
   for (auto v = impl_->arrangement.vertices_begin(); v != impl_->arrangement.vertices_end(); ++v)
-    out.push_back(impl_->toWorld(v->point()));
+    out.push_back(impl_->worldOf(v));
   return out;
 }
 
 std::vector<Polygon3> ReceiverMesh::faceBoundary(int face) const {
   std::vector<Polygon3> cycles;
-  for (auto f = impl_->arrangement.faces_begin(); f != impl_->arrangement.faces_end(); ++f) {
-    if (f->data() != face) continue;
-    const auto cycle = [&](Arrangement::Ccb_halfedge_const_circulator first) {
-      Polygon3 out;
-      auto c = first;
-      do out.push_back(impl_->toWorld(c->source()->point()));
-      while (++c != first);
-      cycles.push_back(std::move(out));
-    };
-    if (f->has_outer_ccb()) cycle(f->outer_ccb());
-    for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycle(*h);
-    break;
-  }
+  const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
+  const auto cycle = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+    Polygon3 out;
+    auto c = first;
+    do out.push_back(impl_->worldOf(c->source()));
+    while (++c != first);
+    cycles.push_back(std::move(out));
+  };
+  if (f->has_outer_ccb()) cycle(f->outer_ccb());
+  for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycle(*h);
   return cycles;
 }
 
 std::vector<std::pair<Vec3, Vec3>> ReceiverMesh::faceBoundarySegments(int face) const {
   std::vector<std::pair<Vec3, Vec3>> segments;
-  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
-    const int left = e->face()->data(), right = e->twin()->face()->data();
-    if (left != right && (left == face || right == face))
-      segments.push_back(
-          {impl_->toWorld(e->source()->point()), impl_->toWorld(e->target()->point())});
-  }
+  const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
+  const auto cycle = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+    auto c = first;
+    do
+      if (c->twin()->face() != f)  // antennas separate the face from itself
+        segments.push_back({impl_->worldOf(c->source()), impl_->worldOf(c->target())});
+    while (++c != first);
+  };
+  if (f->has_outer_ccb()) cycle(f->outer_ccb());
+  for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycle(*h);
   return segments;
 }
 

@@ -7,6 +7,7 @@
 //
 // CGAL stays inside receiver_mesh.cpp: this header only uses Penumbra's types.
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -49,6 +50,10 @@ class ReceiverMesh {
   // Removes the surface from every edge; edges left with no surface disappear. Local: only the
   // faces around those edges change.
   void removeSurface(SurfaceId surface);
+  // Renames the surfaces named on the edges (ids not in `renamed` stay): for an update whose
+  // segments kept their geometry and order but not their surfaces' positions in the frame's list.
+  // Geometry and face indices are unchanged.
+  void renumberSurfaces(const std::map<SurfaceId, SurfaceId>& renamed);
 
   int vertexCount() const;
   int edgeCount() const;
