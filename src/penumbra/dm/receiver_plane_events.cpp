@@ -49,13 +49,14 @@ void addBeyond(std::vector<DiscontinuitySegment>& out, const WorldPolygon& recei
 std::vector<DiscontinuitySegment> lightPlaneSegments(const WorldPolygon& receiver,
                                                      const WorldPolygon& light, SurfaceId surface) {
   std::vector<DiscontinuitySegment> out;
-  const Vec3 along = cross(light.plane.normal, receiver.plane.normal);
-  if (squaredLength(along) == 0) return out;  // parallel planes
-  // A point of the receiver's plane on the light's plane.
   const Vec3 n = receiver.plane.normal, l = light.plane.normal;
-  const double dn = -receiver.plane.signedDistance({0, 0, 0});
-  const double dl = -light.plane.signedDistance({0, 0, 0});
-  const Vec3 o = (cross(along, n) * dl + cross(l, along) * dn) / squaredLength(along);
+  const Vec3 along = cross(n, l);
+  if (squaredLength(along) == 0) return out;  // parallel planes
+  // The point of both planes n . x = dn and l . x = dl nearest the origin:
+  // x = (dn (l × u) + dl (u × n)) / |u|² with u = n × l (it satisfies both: n · (l × u) = |u|²,
+  // n · (u × n) = 0, and likewise for l).
+  const double dn = receiver.plane.offset, dl = light.plane.offset;
+  const Vec3 o = (cross(l, along) * dn + cross(along, n) * dl) / squaredLength(along);
   addBeyond(out, receiver, surface, o, along, -INFINITY);
   return out;
 }
