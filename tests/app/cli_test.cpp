@@ -243,6 +243,45 @@ TEST(Cli, ShadowsVerifyComparesUpdatesWithFullRecomputation) {
   EXPECT_NE(text.str().find("\"moved_objects\": 1"), std::string::npos);
 }
 
+// A point where the Cornell box's short block stands on the floor: the face's backprojection is
+// degenerate there (Lambert's formula meets zero-length edges: it printed -nan), so the point is
+// answered by the exact reference, the report says so, and the value equals `--method reference`.
+TEST(Cli, ProbeDmAtAContactCornerIsFiniteAndReportsHowItWasAnswered) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const std::string points = dir.write("points.txt", "0.29 0 0.114 0 1 0\n0.5 0 0.5 0 1 0\n");
+  const std::string report = dir.path("report.json");
+  const RunResult dm =
+      runPenumbra("probe " + scene + " --points " + points + " --method dm --report " + report);
+  ASSERT_EQ(dm.exitCode, 0) << dm.output;
+  EXPECT_EQ(dm.output.find("nan"), std::string::npos) << dm.output;
+  const RunResult reference = runPenumbra("probe " + scene + " --points " + points);
+  ASSERT_EQ(reference.exitCode, 0) << reference.output;
+  std::istringstream a(dm.output), b(reference.output);
+  std::string lineA, lineB;
+  std::getline(a, lineA);
+  std::getline(b, lineB);
+  for (int i = 0; i < 2; ++i) {
+    std::getline(a, lineA);
+    std::getline(b, lineB);
+    double va[9], vb[9];
+    ASSERT_EQ(std::sscanf(lineA.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &va[0], &va[1],
+                          &va[2], &va[3], &va[4], &va[5], &va[6], &va[7], &va[8]),
+              9);
+    ASSERT_EQ(std::sscanf(lineB.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vb[0], &vb[1],
+                          &vb[2], &vb[3], &vb[4], &vb[5], &vb[6], &vb[7], &vb[8]),
+              9);
+    for (int c = 6; c < 9; ++c) EXPECT_NEAR(va[c], vb[c], 1e-9 * std::max(1.0, vb[c])) << i;
+  }
+  std::ifstream in(report);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("\"answered_by_mesh\": 1"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("\"answered_at_point\": 1"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("\"degenerate\": 1"), std::string::npos) << text.str();
+}
+
 // Global options are accepted after the verb too (DESIGN.md §6), as the README shows them.
 TEST(Cli, GlobalOptionsAfterTheVerb) {
   const std::string scene =

@@ -38,7 +38,8 @@ struct ProbeOptions {
   std::string points;
   int frame = 0;
   std::string method = "reference";
-  bool full = false;  // build frame K from scratch instead of updating from frame 0
+  bool full = false;   // build frame K from scratch instead of updating from frame 0
+  std::string report;  // JSON: how the points were answered (dm: by the mesh or at the point)
   MonteCarloOptions monteCarlo;
   bool withError = false;
   RadiosityOptions radiosity;

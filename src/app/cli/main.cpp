@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
   probeCommand->add_option("--frame", probe.frame, "Frame of the scene's motion");
   probeCommand->add_option("--method", probe.method, "reference | montecarlo | dm | radiosity");
   probeCommand->add_flag("--full", probe.full, "Recompute the frame from scratch (no update)");
+  probeCommand->add_option("--report", probe.report,
+                           "Write JSON: points, seconds, and for dm how each was answered "
+                           "(answered_by_mesh, answered_at_point and why)");
   probeCommand
       ->add_option("--samples", probe.monteCarlo.samplesPerLightPerBatch,
                    "Monte Carlo: light samples per light per batch")

@@ -1,6 +1,9 @@
 // `penumbra probe SCENE --points FILE`: direct irradiance at given points (DESIGN.md §6).
 
+#include <chrono>
 #include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "frame_range.h"
@@ -15,10 +18,15 @@
 #include "penumbra/spatial/receiver_locator.h"
 #include "points_file.h"
 #include "progress.h"
+#include "report_file.h"
 
 namespace penumbra::cli {
 
 namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 struct ProbeResult {
   Rgb value;
@@ -53,6 +61,8 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
   checkFrame(options.frame, scene.frames);
   const std::vector<ProbePoint> points = readPointsFile(options.points);
   std::vector<ProbeResult> results(points.size());
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json report;
 
   // Frame K is frame 0 updated through 1..K (the shared grid and ray caster move with the scene,
   // and the engines take each change through update()), unless --full builds K from scratch.
@@ -82,12 +92,23 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
     walkToFrame(live, options.frame,
                 [&](const SceneChange& change) { engine.update(live, change); });
     Progress progress("probe (dm)", (long long)points.size(), common.quiet);
+    std::map<DiscontinuityMeshEngine::Answer, long long> answers;
     for (size_t i = 0; i < points.size(); ++i) {
-      const auto value = engine.irradiance(points[i].position, points[i].normal);
-      if (!value) throw lieOnNoReceiver(points[i]);
-      results[i].value = *value;
+      const auto answered = engine.query(points[i].position, points[i].normal);
+      if (!answered) throw lieOnNoReceiver(points[i]);
+      results[i].value = answered->irradiance;
+      ++answers[answered->answer];
       progress.advance();
     }
+    using Answer = DiscontinuityMeshEngine::Answer;
+    const long long byMesh = answers[Answer::kMesh];
+    report["answered_by_mesh"] = byMesh;
+    report["answered_at_point"] = (long long)points.size() - byMesh;
+    report["at_point"] = {{"outside_faces", answers[Answer::kOutsideFaces]},
+                          {"unresolved_face", answers[Answer::kUnresolvedFace]},
+                          {"sliver_face", answers[Answer::kSliverFace]},
+                          {"near_eee_polyline", answers[Answer::kNearEeePolyline]},
+                          {"degenerate", answers[Answer::kDegenerate]}};
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
     RadiositySolver solver(options.radiosity);
@@ -111,6 +132,14 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
     });
   }
   printCsv(points, results, options.withError);
+  if (!options.report.empty()) {
+    report["method"] = options.method;
+    report["points"] = points.size();
+    report["full"] = options.full;
+    const nlohmann::json frame = {{"frame", options.frame}, {"seconds", secondsSince(start)}};
+    writeReport(report, options.report, options.scene, scene.polygonCount(),
+                nlohmann::json::array({frame}));
+  }
   return kOk;
 }
 

@@ -632,21 +632,36 @@ Rgb DiscontinuityMeshEngine::atPoint(const Vec3& p, const Vec3& n, PolygonId rec
 }
 
 std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3& n) const {
+  const auto answered = query(p, n);
+  return answered ? std::optional(answered->irradiance) : std::nullopt;
+}
+
+std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(const Vec3& p,
+                                                                             const Vec3& n) const {
   const auto match = locateReceiver(*posed_, *grid_, p, n);
   if (!match) return std::nullopt;
   const auto it = receivers_.find(match->polygon);
   if (it == receivers_.end()) return std::nullopt;
   const WorldPolygon& receiver = posed_->polygons[match->polygon];
   const Vec3 onPlane = receiver.plane.project(p);
+  const auto atPointFor = [&](Answer why) { return Query{atPoint(p, n, match->polygon), why}; };
   const auto face = it->second.mesh.locate(onPlane);
   // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
   // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
-  if (!face) return atPoint(p, n, match->polygon);
-  if (it->second.faces[*face].answersAtPoint()) return atPoint(p, n, match->polygon);
+  if (!face) return atPointFor(Answer::kOutsideFaces);
+  const FaceData& data = it->second.faces[*face];
+  if (data.unresolved) return atPointFor(Answer::kUnresolvedFace);
+  if (data.sliver) return atPointFor(Answer::kSliverFace);
   // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
   // the backprojection is computed at the point itself there.
-  if (it->second.eeeSegments.near(onPlane, nearEee())) return atPoint(p, n, match->polygon);
-  return backprojections_->irradiance(it->second.faces[*face].perLight, p, n, match->polygon);
+  if (it->second.eeeSegments.near(onPlane, nearEee())) return atPointFor(Answer::kNearEeePolyline);
+  const Rgb e = backprojections_->irradiance(data.perLight, p, n, match->polygon);
+  // At a point where an occluder touches the receiver, Lambert's formula over the labelled region
+  // meets zero-length edge vectors: NaN, or a negative value. Not below zero by more than rounding.
+  const double slack = std::max(1e-15, 1e-12 * e.maxComponent());
+  if (!e.isFinite() || e.r < -slack || e.g < -slack || e.b < -slack)
+    return atPointFor(Answer::kDegenerate);
+  return Query{e, Answer::kMesh};
 }
 
 }  // namespace penumbra

@@ -139,6 +139,22 @@ class DiscontinuityMeshEngine {
   // Exact direct irradiance at p (normal n) on the receiver polygon p lies on, from the
   // backprojections of p's face. Nothing when p lies on no receiver.
   std::optional<Rgb> irradiance(const Vec3& p, const Vec3& n) const;
+  // How a query was answered: by its face's backprojections, or at the point by the exact
+  // reference, and why (`probe --report` counts them).
+  enum class Answer {
+    kMesh,             // the face's labelled backprojections evaluated at the point
+    kOutsideFaces,     // on the receiver within the locator's tolerance but in no face
+    kUnresolvedFace,   // a face a missing event crosses (face verification)
+    kSliverFace,       // a face too thin to carry labels
+    kNearEeePolyline,  // within the EEE polylines' tolerance of an approximated conic
+    kDegenerate,       // the backprojection gave no finite non-negative value (contact points)
+  };
+  struct Query {
+    Rgb irradiance;
+    Answer answer = Answer::kMesh;
+  };
+  // irradiance(), saying how it was answered.
+  std::optional<Query> query(const Vec3& p, const Vec3& n) const;
   const DmStats& stats() const { return stats_; }
   const PosedScene& posedScene() const { return *posed_; }
   const UniformGrid& grid() const { return *grid_; }
