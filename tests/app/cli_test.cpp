@@ -282,6 +282,29 @@ TEST(Cli, ProbeDmAtAContactCornerIsFiniteAndReportsHowItWasAnswered) {
   EXPECT_NE(text.str().find("\"degenerate\": 1"), std::string::npos) << text.str();
 }
 
+// Reflectance 1 is in most real OBJ/MTL files (`Kd 1 1 1`): such a scene loads, renders and
+// probes (direct light does not depend on reflectance).
+TEST(Cli, ObjWithKdOneLoadsAndRenders) {
+  test::TempDir dir;
+  dir.write("white.mtl", "newmtl white\nKd 1 1 1\nnewmtl lamp\nKd 0 0 0\nKe 5 5 5\n");
+  const std::string obj = dir.write("room.obj",
+                                    "mtllib white.mtl\n"
+                                    "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+                                    "v -0.2 2 -0.2\nv 0.2 2 -0.2\nv 0.2 2 0.2\nv -0.2 2 0.2\n"
+                                    "usemtl white\nf 4 3 2 1\n"
+                                    "usemtl lamp\nf 5 6 7 8\n");
+  EXPECT_EQ(runPenumbra("info " + obj).exitCode, 0);
+  const std::string png = dir.path("white.png");
+  const RunResult render =
+      runPenumbra("render " + obj + " --method raytrace --size 32x24 -o " + png);
+  EXPECT_EQ(render.exitCode, 0) << render.output;
+  std::ifstream image(png, std::ios::binary);
+  EXPECT_TRUE(image.good());
+  const std::string points = dir.write("points.txt", "0 0 0 0 1 0\n");
+  const RunResult dm = runPenumbra("probe " + obj + " --points " + points + " --method dm");
+  EXPECT_EQ(dm.exitCode, 0) << dm.output;
+}
+
 // Global options are accepted after the verb too (DESIGN.md §6), as the README shows them.
 TEST(Cli, GlobalOptionsAfterTheVerb) {
   const std::string scene =

@@ -11,6 +11,7 @@
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/radiosity/radiosity_solver.h"
+#include "penumbra/render/shadow_volume_renderer.h"
 
 namespace penumbra::cli {
 
@@ -53,9 +54,10 @@ struct RenderOptions {
   std::string output;
   std::string size;  // WxH, empty: the scene camera's
   int samplesPerPixel = 1;
-  int lightSamples = 1;  // volumes: jittered point lights per area light (1: the centroid)
-  double exposure = 0;   // 0: automatic
-  std::string exr;       // optional raw irradiance output
+  // volumes: jittered point lights per area light (the renderer's default: the centroid)
+  int lightSamples = ShadowVolumeRenderOptions{}.lightSamples;
+  double exposure = 0;  // 0: automatic
+  std::string exr;      // optional raw irradiance output
   RadiosityOptions radiosity;
   bool edges = false;  // dm: draw the discontinuity edges over the image
   std::string frames;  // dm: A:B, one strip of these frames reached by updates (empty: --frame)

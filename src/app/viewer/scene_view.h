@@ -107,7 +107,7 @@ class SceneView {
 
   DynamicScene live_;
   ViewMethod method_;
-  int lightSamples_ = 1;
+  int lightSamples_ = ShadowVolumeRenderOptions{}.lightSamples;
   int threads_ = 0;
   // Volumes are cheap to update and follow every change, so their state is always the CLI's
   // (built at frame 0, then updated change by change).

@@ -7,6 +7,7 @@
 
 #include "drag_script.h"
 #include "penumbra/radiosity/radiosity_solver.h"
+#include "penumbra/render/shadow_volume_renderer.h"
 
 namespace penumbra::viewer {
 
@@ -14,12 +15,13 @@ struct ViewerOptions {
   std::string scene;
   std::string method = "volumes";  // raytrace | radiosity | volumes
   int frame = 0;                   // first frame shown
-  int lightSamples = 1;            // volumes: jittered point lights per area light
-  int width = 0, height = 0;       // image size; 0: the scene camera's
-  double exposure = 0;             // 0: automatic per image, as `penumbra render`
-  RadiosityOptions radiosity;      // the engine's own defaults; --tolerance binds to it
-  int threads = 0;                 // raytrace worker threads (0: all)
-  bool play = false;               // start playing the motion
+  // volumes: jittered point lights per area light (the renderer's default)
+  int lightSamples = ShadowVolumeRenderOptions{}.lightSamples;
+  int width = 0, height = 0;   // image size; 0: the scene camera's
+  double exposure = 0;         // 0: automatic per image, as `penumbra render`
+  RadiosityOptions radiosity;  // the engine's own defaults; --tolerance binds to it
+  int threads = 0;             // raytrace worker threads (0: all)
+  bool play = false;           // start playing the motion
   // Moves applied in order, as mouse drags would be: before the first image, or with
   // `screenshot` before the last one (a frame step puts moved objects back on their keyframes).
   std::vector<ScriptedDrag> drags;
