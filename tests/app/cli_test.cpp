@@ -305,6 +305,48 @@ TEST(Cli, ObjWithKdOneLoadsAndRenders) {
   EXPECT_EQ(dm.exitCode, 0) << dm.output;
 }
 
+// Repeated vertices, as real files have them (a closing repeat of the first corner, a consecutive
+// duplicate, an OBJ face `f a b b c d`), are removed on loading: the scene gives exactly what the
+// same scene without them gives (they crashed the exact engine).
+TEST(Cli, RepeatedVerticesGiveTheSameShadowsAsWithoutThem) {
+  test::TempDir dir;
+  const auto sceneWith = [](const std::string& blocker) {
+    return std::string(R"({ "penumbra": 1,
+  "materials": { "white": { "reflectance": [0.5, 0.5, 0.5] },
+                 "lamp": { "reflectance": [0, 0, 0], "emission": [1, 1, 1] } },
+  "objects": [
+    { "name": "lamp", "material": "lamp", "polygons": [ [[-1,-1,2],[-1,1,2],[1,1,2],[1,-1,2]] ] },
+    { "name": "floor", "material": "white", "polygons": [ [[-5,-5,0],[5,-5,0],[5,5,0],[-5,5,0]] ] },
+    { "name": "blocker", "material": "white", "polygons": [ )") +
+           blocker + " ] } ] }";
+  };
+  const std::string clean =
+      dir.write("clean.json", sceneWith("[[-0.5,-0.5,1],[0.5,-0.5,1],[0.5,0.5,1],[-0.5,0.5,1]]"));
+  const std::string repeated = dir.write(
+      "repeated.json",
+      sceneWith(
+          "[[-0.5,-0.5,1],[0.5,-0.5,1],[0.5,-0.5,1],[0.5,0.5,1],[-0.5,0.5,1],[-0.5,-0.5,1]]"));
+  dir.write("white.mtl", "newmtl white\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
+  const std::string obj = dir.write("repeated.obj",
+                                    "mtllib white.mtl\n"
+                                    "v -1 -1 2\nv -1 1 2\nv 1 1 2\nv 1 -1 2\n"
+                                    "v -5 -5 0\nv 5 -5 0\nv 5 5 0\nv -5 5 0\n"
+                                    "v -0.5 -0.5 1\nv 0.5 -0.5 1\nv 0.5 0.5 1\nv -0.5 0.5 1\n"
+                                    "usemtl lamp\nf 1 2 3 4\n"
+                                    "usemtl white\nf 5 6 7 8\nf 9 10 10 11 12\n");
+  const std::string points =
+      dir.write("points.txt", "0 0 0 0 0 1\n0.6 0.3 0 0 0 1\n0.9 0.9 0 0 0 1\n-1.2 0.4 0 0 0 1\n");
+  const RunResult expected = runPenumbra("probe " + clean + " --points " + points + " --method dm");
+  ASSERT_EQ(expected.exitCode, 0) << expected.output;
+  for (const std::string& scene : {repeated, obj}) {
+    const RunResult shadows = runPenumbra("shadows " + scene + " --mode full");
+    EXPECT_EQ(shadows.exitCode, 0) << scene << ": " << shadows.output;
+    const RunResult dm = runPenumbra("probe " + scene + " --points " + points + " --method dm");
+    ASSERT_EQ(dm.exitCode, 0) << scene << ": " << dm.output;
+    EXPECT_EQ(dm.output, expected.output) << scene;
+  }
+}
+
 // Global options are accepted after the verb too (DESIGN.md §6), as the README shows them.
 TEST(Cli, GlobalOptionsAfterTheVerb) {
   const std::string scene =

@@ -5,6 +5,7 @@
 
 #include "penumbra/base/input_error.h"
 #include "penumbra/scene/obj_mesh_reader.h"
+#include "penumbra/scene/repeated_vertices.h"
 
 namespace penumbra {
 
@@ -14,7 +15,8 @@ std::string lowercaseExtension(const std::string& path) {
   const auto slash = path.find_last_of('/');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
   std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 }  // namespace
@@ -31,8 +33,9 @@ Scene loadObjScene(const std::string& path) {
     if (face.materialName.empty()) throw InputError(where, "face has no material (usemtl)");
     auto it = materialIndex.find(face.materialName);
     if (it == materialIndex.end()) {
-      const auto mtl = std::find_if(mesh.mtlMaterials.begin(), mesh.mtlMaterials.end(),
-                                    [&](const ObjMtlMaterial& m) { return m.name == face.materialName; });
+      const auto mtl =
+          std::find_if(mesh.mtlMaterials.begin(), mesh.mtlMaterials.end(),
+                       [&](const ObjMtlMaterial& m) { return m.name == face.materialName; });
       if (mtl == mesh.mtlMaterials.end())
         throw InputError(where, "unknown material '" + face.materialName + "'");
       it = materialIndex.emplace(face.materialName, int(scene.materials.size())).first;
@@ -57,10 +60,11 @@ Scene loadScene(const std::string& path) {
   else if (ext == "gltf" || ext == "glb")
     scene = loadGltfScene(path);
   else
-    throw InputError(path, "unknown scene file type '." + ext + "' (expected .json, .obj, .gltf, .glb)");
+    throw InputError(path,
+                     "unknown scene file type '." + ext + "' (expected .json, .obj, .gltf, .glb)");
+  removeRepeatedVertices(scene);
   validateScene(scene);
   return scene;
 }
 
 }  // namespace penumbra
-
