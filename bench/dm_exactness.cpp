@@ -124,7 +124,7 @@ int triangulate(Scene& scene) {
 }
 
 struct Tally {
-  long long points = 0, differ = 0;
+  long long points = 0, differ = 0, byMesh = 0;
   double worst = 0;
 };
 
@@ -146,7 +146,10 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
   std::string first;
   for (const ReceiverPoint& q : queries) {
     const Rgb expected = reference.irradiance(q.p, q.n, q.receiver);
-    const std::optional<Rgb> got = engine.irradiance(q.p, q.n);
+    const auto answered = engine.query(q.p, q.n);
+    const std::optional<Rgb> got =
+        answered ? std::optional(answered->irradiance) : std::optional<Rgb>();
+    if (answered && answered->answer == DiscontinuityMeshEngine::Answer::kMesh) ++tally.byMesh;
     const double scale = std::max(1e-11, expected.maxComponent());
     const double error =
         got ? std::max({std::abs(got->r - expected.r), std::abs(got->g - expected.g),
@@ -164,9 +167,10 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
     }
   }
   const DmStats& s = engine.stats();
-  std::printf("%-34s %6zu %6lld %6lld %9.2e %7.2f %6lld/%-6lld %s\n", name.c_str(),
+  std::printf("%-34s %6zu %6lld %6lld %9.2e %7.2f %6lld/%-6lld %6.2f%% %s\n", name.c_str(),
               posed.polygons.size(), tally.points, tally.differ, tally.worst, seconds,
-              s.unresolvedFaces, s.meshFaces, first.c_str());
+              s.unresolvedFaces, s.meshFaces, 100.0 * double(tally.byMesh) / double(tally.points),
+              first.c_str());
   std::fflush(stdout);
   return tally;
 }
@@ -207,8 +211,8 @@ int main(int argc, char** argv) {
       "# dm vs exact reference, %d points per scene (half uniform, half penumbra); "
       "backprojections %s\n",
       points, propagate ? "propagated between faces (where verified)" : "from scratch");
-  std::printf("%-34s %6s %6s %6s %9s %7s %s\n", "scene", "polys", "points", "differ", "worst",
-              "build s", "unresolved/faces");
+  std::printf("%-34s %6s %6s %6s %9s %7s %s %s\n", "scene", "polys", "points", "differ", "worst",
+              "build s", "unresolved/faces", "by mesh");
   for (bool verifyFaces : {false, true}) {
     std::printf("\n## faces %s\n", verifyFaces ? "verified at their corners (the default)"
                                                : "answering from their sample's labels only");
@@ -222,12 +226,16 @@ int main(int argc, char** argv) {
           compare(name + " (triangles)", scene, points, seed + 7, verifyFaces, propagate);
       total.points += a.points;
       total.differ += a.differ;
+      total.byMesh += a.byMesh;
       totalTriangulated.points += b.points;
       totalTriangulated.differ += b.differ;
       seed += 17;
     }
-    std::printf("total: %lld of %lld points differ; triangulated copies: %lld of %lld\n",
-                total.differ, total.points, totalTriangulated.differ, totalTriangulated.points);
+    std::printf(
+        "total: %lld of %lld points differ (%.2f%% answered by the mesh); triangulated "
+        "copies: %lld of %lld\n",
+        total.differ, total.points, 100.0 * double(total.byMesh) / double(total.points),
+        totalTriangulated.differ, totalTriangulated.points);
   }
   return 0;
 }
