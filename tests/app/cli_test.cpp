@@ -347,6 +347,49 @@ TEST(Cli, RepeatedVerticesGiveTheSameShadowsAsWithoutThem) {
   }
 }
 
+// Numbers that used to be accepted silently: a negative frame range, a NaN tolerance, an integer
+// that wraps in the scene file, a keyframe whose frame count would overflow.
+TEST(Cli, OutOfRangeNumbersAreRefused) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const RunResult negative = runPenumbra("shadows " + scene + " --frames -5:-4");
+  EXPECT_EQ(negative.exitCode, 1) << negative.output;
+  EXPECT_NE(negative.output.find("--frames"), std::string::npos) << negative.output;
+  const std::string out = dir.path("r.png");
+  for (const char* value : {"nan", "inf", "-1", "0"}) {
+    const RunResult r = runPenumbra("render " + scene + " --method radiosity --tolerance " +
+                                    std::string(value) + " -o " + out);
+    EXPECT_EQ(r.exitCode, 1) << value << ": " << r.output;
+  }
+  const auto sceneFile = [&](const std::string& name, const std::string& moreObjects,
+                             const std::string& moreKeys) {
+    return dir.write(name, std::string(R"({ "penumbra": 1,
+  "materials": { "white": { "reflectance": [0.5, 0.5, 0.5] },
+                 "lamp": { "reflectance": [0, 0, 0], "emission": [1, 1, 1] } },
+  "objects": [
+    { "name": "lamp", "material": "lamp", "polygons": [ [[-1,-1,2],[-1,1,2],[1,1,2],[1,-1,2]] ] },
+    { "name": "floor", "material": "white", "polygons": [ [[-5,-5,0],[5,-5,0],[5,5,0],[-5,5,0]] ] })") +
+                               moreObjects + " ]" + moreKeys + " }");
+  };
+  const std::string wraps = sceneFile("wraps.json", "",
+                                      ", \"camera\": { \"eye\": [0, -4, 3], \"target\": [0, 0, 0], "
+                                      "\"width\": 4294967297, \"height\": 48 }");
+  const RunResult wrapped = runPenumbra("info " + wraps);
+  EXPECT_EQ(wrapped.exitCode, 2) << wrapped.output;
+  EXPECT_NE(wrapped.output.find("/camera/width"), std::string::npos) << wrapped.output;
+  EXPECT_NE(wrapped.output.find("out of range"), std::string::npos) << wrapped.output;
+  const std::string late =
+      sceneFile("late.json",
+                ", { \"name\": \"box\", \"material\": \"white\", \"polygons\": "
+                "[ [[0,0,1],[1,0,1],[1,1,1],[0,1,1]] ], \"motion\": [ { \"frame\": 0 }, "
+                "{ \"frame\": 2147483647 } ] }",
+                "");
+  const RunResult overflow = runPenumbra("info " + late);
+  EXPECT_EQ(overflow.exitCode, 2) << overflow.output;
+  EXPECT_NE(overflow.output.find("frame"), std::string::npos) << overflow.output;
+}
+
 // Global options are accepted after the verb too (DESIGN.md §6), as the README shows them.
 TEST(Cli, GlobalOptionsAfterTheVerb) {
   const std::string scene =

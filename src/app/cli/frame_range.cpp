@@ -10,7 +10,8 @@ namespace {
 
 // Parses a whole decimal field of at most 9 digits (so it fits an int); false otherwise.
 bool parseFrameNumber(const char* begin, const char* end, int& value) {
-  if (begin == end || end - begin > 9) return false;
+  // Digits only: no sign (a negative frame is no frame; from_chars would take one).
+  if (begin == end || end - begin > 9 || *begin < '0' || *begin > '9') return false;
   const auto [stop, error] = std::from_chars(begin, end, value);
   return error == std::errc() && stop == end;
 }

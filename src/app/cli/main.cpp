@@ -2,12 +2,27 @@
 // 3 verification failed.
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 
 #include "commands.h"
 #include "penumbra/base/input_error.h"
 
 using namespace penumbra::cli;
+
+namespace {
+
+// A finite number above zero (CLI::PositiveNumber lets NaN through: NaN <= 0 is false).
+const CLI::Validator kPositiveFinite(
+    [](std::string& text) {
+      double value = 0;
+      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || !(value > 0))
+        return std::string("must be a finite number above 0, got '") + text + "'";
+      return std::string();
+    },
+    "POSITIVE");
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Penumbra: lighting that stays correct while objects move"};
@@ -74,11 +89,11 @@ int main(int argc, char** argv) {
   probeCommand
       ->add_option("--tolerance", probe.radiosity.tolerance, "Radiosity: refinement tolerance")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositiveFinite);
   renderCommand
       ->add_option("--tolerance", render.radiosity.tolerance, "Radiosity: refinement tolerance")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositiveFinite);
 
   RadiosityCommandOptions radiosity;
   CLI::App* radiosityCommand =
@@ -88,7 +103,7 @@ int main(int argc, char** argv) {
   radiosityCommand->add_option("--update", radiosity.update, "full (linespace: later)");
   radiosityCommand->add_option("--tolerance", radiosity.radiosity.tolerance, "Refinement tolerance")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositiveFinite);
   radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
 
   ShadowsOptions shadows;

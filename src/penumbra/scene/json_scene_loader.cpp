@@ -2,7 +2,9 @@
 // unknown key is an error (a typo must not be silently ignored), and errors are located by the
 // file and the JSON path of the offending value.
 
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -17,6 +19,10 @@
 namespace penumbra {
 
 namespace {
+
+// The largest keyframe number: a frame count is walked frame by frame by the front ends (probe,
+// shadows), so it must stay a count one can iterate.
+constexpr int kMaxFrame = 1'000'000;
 
 using Json = nlohmann::json;
 
@@ -57,8 +63,14 @@ class Node {
     if (!std::isfinite(v)) fail("number is not finite");
     return v;
   }
+  // An integer that fits an int (a larger one would wrap: 4294967297 read as 1).
   int integer() const {
     if (!value_.is_number_integer()) fail("expected an integer");
+    const bool fits =
+        value_.is_number_unsigned()
+            ? value_.get<std::uint64_t>() <= std::uint64_t(INT_MAX)
+            : value_.get<std::int64_t>() >= INT_MIN && value_.get<std::int64_t>() <= INT_MAX;
+    if (!fits) fail("integer out of range");
     return value_.get<int>();
   }
   std::string string() const {
@@ -155,6 +167,9 @@ Motion parseMotion(const Node& node) {
     if (!key.has("frame")) key.fail("keyframe needs 'frame'");
     k.frame = key.child("frame").integer();
     if (k.frame < 0) key.child("frame").fail("frame must be >= 0");
+    // The scene's frame count is the last keyframe + 1, and front ends walk every frame.
+    if (k.frame > kMaxFrame)
+      key.child("frame").fail("frame must be <= " + std::to_string(kMaxFrame));
     if (!keyframes.empty() && k.frame <= keyframes.back().frame)
       key.child("frame").fail("keyframes must have strictly increasing frames");
     keyframes.push_back(k);
@@ -218,7 +233,8 @@ class JsonSceneParser {
     scene_.frames = lastKeyframe + 1;
     if (root.has("frames")) {
       scene_.frames = root.child("frames").integer();
-      if (scene_.frames < 1) root.child("frames").fail("frames must be >= 1");
+      if (scene_.frames < 1 || scene_.frames > kMaxFrame + 1)
+        root.child("frames").fail("frames must lie in 1.." + std::to_string(kMaxFrame + 1));
     }
     return std::move(scene_);
   }
