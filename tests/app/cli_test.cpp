@@ -390,6 +390,23 @@ TEST(Cli, OutOfRangeNumbersAreRefused) {
   EXPECT_NE(overflow.output.find("frame"), std::string::npos) << overflow.output;
 }
 
+// A folder where a file is expected opened as an empty stream: no rows, an empty object, exit 0.
+TEST(Cli, FoldersWhereFilesAreExpectedAreBadInput) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const RunResult points = runPenumbra("probe " + scene + " --points " + dir.path(""));
+  EXPECT_EQ(points.exitCode, 2) << points.output;
+  EXPECT_NE(points.output.find("folder"), std::string::npos) << points.output;
+  const std::string folderObj =
+      dir.write("folder.json",
+                R"({ "penumbra": 1, "materials": { "white": { "reflectance": [0.5, 0.5, 0.5] } },
+  "objects": [ { "name": "room", "obj": ".", "material": "white" } ] })");
+  const RunResult obj = runPenumbra("info " + folderObj);
+  EXPECT_EQ(obj.exitCode, 2) << obj.output;
+  EXPECT_NE(obj.output.find("folder"), std::string::npos) << obj.output;
+}
+
 // Global options are accepted after the verb too (DESIGN.md §6), as the README shows them.
 TEST(Cli, GlobalOptionsAfterTheVerb) {
   const std::string scene =

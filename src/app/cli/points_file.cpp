@@ -7,12 +7,12 @@
 #include <sstream>
 
 #include "penumbra/base/input_error.h"
+#include "penumbra/base/input_file.h"
 
 namespace penumbra::cli {
 
 std::vector<ProbePoint> readPointsFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot open points file");
+  std::ifstream in = openInputFile(path, "points file");
   std::vector<ProbePoint> points;
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "penumbra/base/input_error.h"
+#include "penumbra/base/input_file.h"
 #include "penumbra/scene/obj_mesh_reader.h"
 #include "penumbra/scene/scene_loader.h"
 
@@ -199,8 +200,7 @@ class JsonSceneParser {
   explicit JsonSceneParser(std::string path) : path_(std::move(path)) {}
 
   Scene parse() {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw InputError(path_, "cannot open scene file");
+    std::ifstream in = openInputFile(path_, "scene file", std::ios::in | std::ios::binary);
     std::stringstream buffer;
     buffer << in.rdbuf();
     const std::string text = buffer.str();

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "penumbra/base/input_error.h"
+#include "penumbra/base/input_file.h"
 
 namespace penumbra {
 
@@ -68,8 +69,7 @@ std::vector<std::string> mtllibFileNames(const std::string& rest) {
 // and the `usemtl` name in force there (tinyobjloader drops names its MTL does not define, but the
 // scene's JSON materials may define them), and the vertex coordinates correctly rounded.
 Prescan prescan(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot open OBJ file");
+  std::ifstream in = openInputFile(path, "OBJ file");
   Prescan result;
   std::vector<FaceStatement>& faceLines = result.faces;
   std::string currentMaterial;
