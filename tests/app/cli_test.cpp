@@ -390,6 +390,20 @@ TEST(Cli, OutOfRangeNumbersAreRefused) {
   EXPECT_NE(overflow.output.find("frame"), std::string::npos) << overflow.output;
 }
 
+// MTL colours tinyobjloader reads as 0 (a light channel vanished silently) are bad input naming
+// the MTL file and line.
+TEST(Cli, MtlColoursThatAreNotNumbersAreBadInput) {
+  for (const char* colour : {"Kd red", "Kd nan 0 0", "Ke inf 1 1", "Ke 1 2"}) {
+    test::TempDir dir;
+    dir.write("m.mtl", std::string("newmtl m\n") + colour + "\n");
+    const std::string obj =
+        dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n");
+    const RunResult r = runPenumbra("info " + obj);
+    EXPECT_EQ(r.exitCode, 2) << colour << ": " << r.output;
+    EXPECT_NE(r.output.find("m.mtl:2"), std::string::npos) << colour << ": " << r.output;
+  }
+}
+
 // A folder where a file is expected opened as an empty stream: no rows, an empty object, exit 0.
 TEST(Cli, FoldersWhereFilesAreExpectedAreBadInput) {
   test::TempDir dir;

@@ -155,6 +155,24 @@ std::vector<MtlDefinition> scanMtlDefinitions(
           definitions.push_back({text.substr(start + 7), at(mtlPath, line)});
         else if (text.compare(start, 2, "Kd") == 0 && isBlank(start + 2) && !definitions.empty())
           definitions.back().location = at(mtlPath, line);
+        // tinyobjloader reads `Kd red` or `Ke inf` as 0: a colour (a light's channel) would vanish
+        // silently. Both take one grey value or three finite numbers.
+        for (const char* colour : {"Kd", "Ke"})
+          if (text.compare(start, 2, colour) == 0 && isBlank(start + 2)) {
+            std::istringstream values(text.substr(start + 2));
+            std::string token;
+            int count = 0;
+            double value = 0;
+            bool finite = true;
+            while (values >> token) {
+              ++count;
+              finite = finite && parseFiniteDouble(token, value);
+            }
+            if (!finite || (count != 1 && count != 3))
+              throw InputError(at(mtlPath, line), std::string(colour) +
+                                                      " needs one or three finite numbers, got '" +
+                                                      text.substr(start) + "'");
+          }
       }
       break;
     }
