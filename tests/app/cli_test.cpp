@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -402,6 +403,35 @@ TEST(Cli, MtlColoursThatAreNotNumbersAreBadInput) {
     EXPECT_EQ(r.exitCode, 2) << colour << ": " << r.output;
     EXPECT_NE(r.output.find("m.mtl:2"), std::string::npos) << colour << ": " << r.output;
   }
+}
+
+// Outputs: a write error is an error (not "wrote"), no partial file is left, the scene is never
+// overwritten, and a failing --exr leaves no PNG behind.
+TEST(Cli, OutputsAreWrittenWholeOrNotAtAll) {
+  test::TempDir dir;
+  const std::string scene = dir.write("scene.json", kScene);
+  const RunResult full =
+      runPenumbra("render " + scene + " --method raytrace --size 16x12 -o /dev/full");
+  EXPECT_EQ(full.exitCode, 2) << full.output;
+  EXPECT_EQ(full.output.find("wrote"), std::string::npos) << full.output;
+  const RunResult over =
+      runPenumbra("render " + scene + " --method raytrace --size 16x12 -o " + scene);
+  EXPECT_EQ(over.exitCode, 1) << over.output;
+  std::ifstream kept(scene);
+  std::stringstream text;
+  text << kept.rdbuf();
+  EXPECT_EQ(text.str(), kScene);
+  const std::string png = dir.path("image.png");
+  const RunResult exr = runPenumbra("render " + scene + " --method raytrace --size 16x12 -o " +
+                                    png + " --exr /dev/full");
+  EXPECT_NE(exr.exitCode, 0) << exr.output;
+  EXPECT_FALSE(std::ifstream(png).good()) << "a PNG was left behind";
+  const RunResult good =
+      runPenumbra("render " + scene + " --method raytrace --size 16x12 -o " + png);
+  EXPECT_EQ(good.exitCode, 0) << good.output;
+  EXPECT_TRUE(std::ifstream(png).good());
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path("")))
+    EXPECT_EQ(entry.path().string().find(".partial-"), std::string::npos) << entry.path();
 }
 
 // A folder where a file is expected opened as an empty stream: no rows, an empty object, exit 0.

@@ -56,11 +56,12 @@ void writeImages(const RenderOptions& options, const CommonOptions& common, cons
     if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
   }
   const ToneMapping toneMapping{options.exposure > 0 ? options.exposure : autoExposure(radiance)};
-  writePng(radiance, toneMapping, options.output);
+  // The EXR first: when it cannot be written, no PNG is left behind as if all went well.
   if (!options.exr.empty()) {
     if (!irradiance) throw UsageError("--exr is not available with --method " + options.method);
     writeExr(*irradiance, options.exr);
   }
+  writePng(radiance, toneMapping, options.output);
   if (!common.quiet)
     std::fprintf(stderr, "wrote %s (%dx%d, exposure %g)%s%s%s\n", options.output.c_str(),
                  radiance.width, radiance.height, toneMapping.exposure,
@@ -217,6 +218,12 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
                      " is not available in this build (available: raytrace, dm, radiosity, "
                      "volumes)");
   if (options.edges && options.method != "dm") throw UsageError("--edges needs --method dm");
+  // An image written over the scene it was made from would lose the scene.
+  for (const std::string& output : {options.output, options.exr}) {
+    std::error_code error;
+    if (!output.empty() && std::filesystem::equivalent(output, options.scene, error))
+      throw UsageError("refusing to write " + output + " over the scene file");
+  }
   const Scene scene = loadScene(options.scene);
   checkFrame(options.frame, scene.frames);
   Camera camera = sceneCamera(scene, poseAt(scene, options.frame));

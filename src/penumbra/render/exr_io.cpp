@@ -3,17 +3,39 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <exception>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "penumbra/base/output_file.h"
+
 namespace penumbra {
 namespace {
+
+// An OpenEXR output stream into memory.
+class MemoryStream : public Imf::OStream {
+ public:
+  MemoryStream() : Imf::OStream("memory") {}
+  void write(const char c[], int n) override {
+    if (position_ + std::size_t(n) > bytes.size()) bytes.resize(position_ + std::size_t(n));
+    std::copy(c, c + n, bytes.begin() + std::ptrdiff_t(position_));
+    position_ += std::size_t(n);
+  }
+  std::uint64_t tellp() override { return position_; }
+  void seekp(std::uint64_t position) override { position_ = std::size_t(position); }
+
+  std::vector<char> bytes;
+
+ private:
+  std::size_t position_ = 0;
+};
 
 // One float plane per channel: OpenEXR reads and writes strided planes, and separate planes keep
 // the stride arithmetic trivial.
@@ -59,18 +81,24 @@ void writeExr(const Image& image, const std::filesystem::path& path) {
     planes.g[i] = static_cast<float>(image.pixels[i].g);
     planes.b[i] = static_cast<float>(image.pixels[i].b);
   }
+  // Encoded in memory, then written whole (base/output_file.h): OpenEXR's own file stream does
+  // not report an error that only shows when the file is closed (a full disk).
+  MemoryStream stream;
   try {
     Imf::Header header(image.width, image.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     header.channels().insert("R", Imf::Channel(Imf::FLOAT));
     header.channels().insert("G", Imf::Channel(Imf::FLOAT));
     header.channels().insert("B", Imf::Channel(Imf::FLOAT));
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(stream, header);
     file.setFrameBuffer(frameBufferFor(planes, header.dataWindow(), image.width));
     file.writePixels(image.height);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write EXR '" + path.string() + "': " + e.what());
   }
+  writeOutputFile(path, [&](std::ostream& out) {
+    out.write(stream.bytes.data(), std::streamsize(stream.bytes.size()));
+  });
 }
 
 Image readExr(const std::filesystem::path& path) {

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "penumbra/base/output_file.h"
+
 // The one translation unit that compiles stb_image_write. STATIC keeps its functions local, so
 // they cannot clash with (or be interposed by) the copies in Debian's libstb.so.
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -24,9 +26,17 @@ void writePngRgb8(const std::vector<std::uint8_t>& rgb, int width, int height,
     throw std::runtime_error("cannot write PNG '" + path.string() +
                              "': empty image or pixel data of the wrong size");
   }
-  if (stbi_write_png(path.c_str(), width, height, 3, rgb.data(), width * 3) == 0) {
-    throw std::runtime_error("cannot write PNG '" + path.string() + "'");
+  int size = 0;
+  unsigned char* png = stbi_write_png_to_mem(rgb.data(), width * 3, width, height, 3, &size);
+  if (!png) throw std::runtime_error("cannot write PNG '" + path.string() + "': encoding failed");
+  try {
+    writeOutputFile(
+        path, [&](std::ostream& out) { out.write(reinterpret_cast<const char*>(png), size); });
+  } catch (...) {
+    STBIW_FREE(png);
+    throw;
   }
+  STBIW_FREE(png);
 }
 
 }  // namespace penumbra
