@@ -434,6 +434,35 @@ TEST(Cli, OutputsAreWrittenWholeOrNotAtAll) {
     EXPECT_EQ(entry.path().string().find(".partial-"), std::string::npos) << entry.path();
 }
 
+// Drawing the discontinuity edges does not change the automatic exposure (it made the picture 3.5x
+// darker): the exposure comes from the picture without them.
+TEST(Cli, EdgesDoNotChangeTheExposure) {
+  test::TempDir dir;
+  const std::string scene = std::string(PENUMBRA_SOURCE_DIR) + "/scenes/office-desk/desk-145.json";
+  const auto exposure = [&](const std::string& extra) {
+    const RunResult r =
+        test::runCommand(std::string(PENUMBRA_BINARY_DIR) + "/bin/penumbra render " + scene +
+                         " --method dm --size 80x60 -o " + dir.path("e.png") + extra);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    const size_t at = r.output.find("exposure ");
+    return at == std::string::npos ? std::string() : r.output.substr(at, 20);
+  };
+  const std::string plain = exposure("");
+  EXPECT_FALSE(plain.empty());
+  EXPECT_EQ(exposure(" --edges"), plain);
+}
+
+// An OBJ whose lines end with CR alone is bad input naming the file (it failed with
+// vector::_M_range_check and no file named).
+TEST(Cli, ObjWithCarriageReturnLineEndingsIsBadInputNamingTheFile) {
+  test::TempDir dir;
+  const std::string obj = dir.write("mac.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r");
+  const RunResult r = runPenumbra("info " + obj);
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("mac.obj:1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("carriage return"), std::string::npos) << r.output;
+}
+
 // A folder where a file is expected opened as an empty stream: no rows, an empty object, exit 0.
 TEST(Cli, FoldersWhereFilesAreExpectedAreBadInput) {
   test::TempDir dir;

@@ -61,7 +61,7 @@ int runInfo(const InfoOptions& options, const CommonOptions&) {
                 closedness.sceneOpenEdgeLength);
   for (const ObjectClosedness& c : closedness.objects)
     if (!c.isClosed)
-      std::printf("  open object    %s (%d open edges, length %g)\n",
+      std::printf("  open by itself %s (%d open edges, length %g)\n",
                   scene.objects[c.objectIndex].name.c_str(), c.openEdgeCount, c.openEdgeLength);
   return kOk;
 }

@@ -49,13 +49,18 @@ void parseSize(const std::string& size, Camera& camera) {
 }
 
 // Writes the tone-mapped PNG (and the raw irradiance EXR when asked), creating folders.
+// `exposureFrom` (when given) sets the automatic exposure instead of `radiance`: the same picture
+// without overlays, so that drawing the edges does not darken it.
 void writeImages(const RenderOptions& options, const CommonOptions& common, const Image& radiance,
-                 const Image* irradiance, const std::string& details) {
+                 const Image* irradiance, const std::string& details,
+                 const Image* exposureFrom = nullptr) {
   for (const std::string& path : {options.output, options.exr}) {
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (!path.empty() && !parent.empty()) std::filesystem::create_directories(parent);
   }
-  const ToneMapping toneMapping{options.exposure > 0 ? options.exposure : autoExposure(radiance)};
+  const ToneMapping toneMapping{options.exposure > 0
+                                    ? options.exposure
+                                    : autoExposure(exposureFrom ? *exposureFrom : radiance)};
   // The EXR first: when it cannot be written, no PNG is left behind as if all went well.
   if (!options.exr.empty()) {
     if (!irradiance) throw UsageError("--exr is not available with --method " + options.method);
@@ -101,9 +106,10 @@ void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
 // The exact soft shadows: the discontinuity mesh's faces triangulated, each corner's irradiance
 // from its face's backprojection, drawn with Gouraud shading (radiance ρE/π on receivers, M/π
 // on lights); --edges draws the discontinuity edges over it. `details` gets the mesh's counts.
+// With `withoutEdges`, also the picture without the edges (for the exposure).
 Image drawDm(const RenderOptions& options, const DiscontinuityMeshEngine& engine,
              const PosedScene& posed, const Camera& camera, MeshRenderer& renderer,
-             std::string& details) {
+             std::string& details, Image* withoutEdges = nullptr) {
   // Corners about 1/100 of the scene apart resolve the smooth falloff inside large faces.
   const IrradianceMesh solution = buildIrradianceMesh(engine, posed.extent.diagonalLength() / 100);
   const ColoredMesh mesh = radianceMesh(solution, posed);
@@ -121,6 +127,7 @@ Image drawDm(const RenderOptions& options, const DiscontinuityMeshEngine& engine
   details = "; mesh: " + std::to_string(s.meshVertices) + " vertices, " +
             std::to_string(s.meshFaces) + " faces, " + std::to_string(solution.indices.size() / 3) +
             " triangles";
+  if (withoutEdges) *withoutEdges = renderer.render(mesh, camera, camera.width, camera.height);
   return renderer.render(mesh, overlays, camera, camera.width, camera.height);
 }
 
@@ -137,8 +144,10 @@ void renderDm(const RenderOptions& options, const CommonOptions& common, const D
   const auto context = GlContext::createHeadless();
   MeshRenderer renderer(dmDrawing());
   std::string details;
-  const Image image = drawDm(options, engine, live.posed(), camera, renderer, details);
-  writeImages(options, common, image, nullptr, details);
+  Image plain;
+  const Image image = drawDm(options, engine, live.posed(), camera, renderer, details,
+                             options.edges ? &plain : nullptr);
+  writeImages(options, common, image, nullptr, details, options.edges ? &plain : nullptr);
 }
 
 // The moving exact soft shadows as one strip, frames A..B left to right: one live scene and one

@@ -76,6 +76,12 @@ Prescan prescan(const std::string& path) {
   long vertexCount = 0;
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
+    // A carriage return inside a line: the file ends its lines with CR alone (old Mac), which
+    // neither this reader nor tinyobjloader splits (it failed deep inside with no file named).
+    const size_t cr = text.find('\r');
+    if (cr != std::string::npos && cr + 1 < text.size())
+      throw InputError(at(path, line),
+                       "lines end with a carriage return alone (CR); convert them to LF or CR LF");
     std::istringstream tokens(text);
     std::string keyword;
     tokens >> keyword;
