@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <unordered_map>
 
 #include "penumbra/base/check.h"
 #include "penumbra/dm/crossing_occluders.h"
@@ -118,6 +119,20 @@ bool DiscontinuityMeshEngine::isCrossed(const Box3& region, const SceneChange& c
 
 namespace {
 
+// What a planar surface's cast depends on besides the scene: its light and its fan (castSurface).
+bool sameFan(const DiscontinuitySurface& a, const DiscontinuitySurface& b) {
+  return a.light == b.light && a.fan.source0 == b.fan.source0 && a.fan.source1 == b.fan.source1 &&
+         a.fan.hinge0 == b.fan.hinge0 && a.fan.hinge1 == b.fan.hinge1 &&
+         a.fan.contacts == b.fan.contacts;
+}
+
+std::size_t fanHash(const DiscontinuitySurface& s) {
+  std::size_t h = std::hash<int>()(s.light);
+  for (const Vec3& p : {s.fan.source0, s.fan.source1, s.fan.hinge0, s.fan.hinge1})
+    for (double c : {p.x, p.y, p.z}) h = h * 1000003u ^ std::hash<double>()(c);
+  return h;
+}
+
 // Do two receivers' inputs hold the same segments in the same order (geometry, bit for bit)? The
 // surfaces that made them may sit at other positions in this frame's list (surfaces before them
 // appeared or vanished): `renamed` gets each old id's new one, which must be one to one.
@@ -174,7 +189,37 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   std::map<PolygonId, ReceiverData> previous;
   if (change) previous = std::move(receivers_);
   receivers_.clear();
+  // The previous frame's planar surfaces, by their fan, and the grid cells a moved object's old
+  // or new bounds overlap: a surface with the same fan as before whose cells none of those are
+  // cuts the same polygons the same way (the paper's per-cell test), so its cast is kept.
+  std::vector<DiscontinuitySurface> previousSurfaces;
+  if (change) previousSurfaces = std::move(surfaces_);
   surfaces_.clear();
+  std::unordered_multimap<std::size_t, size_t> previousByFan;
+  for (size_t i = 0; i < previousSurfaces.size(); ++i)
+    previousByFan.emplace(fanHash(previousSurfaces[i]), i);
+  std::vector<char> movedCells;
+  if (change) {
+    movedCells.assign(grid_->resolution().cellCount(), 0);
+    for (const ObjectMove& move : change->moves)
+      for (const Box3& box : {move.boundsBefore, move.boundsAfter})
+        grid_->forEachCellOverlappingBox(box, [&](int cell) { movedCells[cell] = 1; });
+  }
+  const auto castOrKeep = [&](DiscontinuitySurface& surface) {
+    const auto [first, last] = previousByFan.equal_range(fanHash(surface));
+    for (auto it = first; it != last; ++it) {
+      const DiscontinuitySurface& before = previousSurfaces[it->second];
+      if (!sameFan(before, surface)) continue;
+      if (std::any_of(before.cells.begin(), before.cells.end(),
+                      [&](int cell) { return movedCells[cell] != 0; }))
+        continue;
+      surface.cells = before.cells;
+      surface.intersections = before.intersections;
+      ++stats_.keptCasts;
+      return;
+    }
+    castSurface(surface, *posed_, *grid_);
+  };
   const PosedScene& scene = *posed_;
   reference_ = std::make_unique<ExactReference>(scene, grid_);
   adjacency_ = std::make_unique<EdgeAdjacency>(scene);
@@ -223,7 +268,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
 
   start = Clock::now();
   for (DiscontinuitySurface& s : surfaces_) {
-    castSurface(s, scene, *grid_);
+    castOrKeep(s);
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
     stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
@@ -281,7 +326,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
   // numbered after them; the EEE surfaces are numbered after all planar ones.
   for (DiscontinuitySurface& s : afterCasting) {
-    castSurface(s, scene, *grid_);
+    castOrKeep(s);
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
     stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);

@@ -40,6 +40,9 @@ struct DmStats {
   // verification were kept (same boundary, nothing moved between them and a light) and
   // recomputed: what an update's cost follows.
   long long keptMeshes = 0, rebuiltMeshes = 0, reusedFaces = 0, recomputedFaces = 0;
+  // Planar surfaces whose cast (cells and stored intersections) was kept: the same fan as before,
+  // and no moved object's old or new bounds in any of its cells.
+  long long keptCasts = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
