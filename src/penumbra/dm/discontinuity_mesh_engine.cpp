@@ -289,11 +289,62 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   const double chord = kEeeChordTolerance * scene.extent.diagonalLength();
   std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
   std::vector<PolygonId> crossed;
+  const auto eeeKeyOf = [&](const EeeSurface& surface) {
+    EeeKey key;
+    key.light = surface.light;
+    key.kind = int(surface.kind);
+    key.lightEdge = surface.lightEdge;
+    for (EdgeId e : surface.occluderEdges()) {
+      const SceneEdge& edge = adjacency_->edges()[e];
+      key.ends.push_back(adjacency_->position(edge.a));
+      key.ends.push_back(adjacency_->position(edge.b));
+      key.incident.push_back(edge.polygons);
+    }
+    return key;
+  };
+  // The previous frame's traced EEE surfaces, by what their tracing reads: a surface with the same
+  // light, edges (ends and incident polygons, bit for bit) and none of whose cells a moved
+  // object's bounds overlap traces the same lines through the same polygons, so its result is
+  // kept (not when a light moved: the lines start on it).
+  std::vector<EeeTrace> previousTraces;
+  if (change) previousTraces = std::move(eeeTraces_);
+  eeeTraces_.clear();
+  std::unordered_multimap<std::size_t, size_t> previousByKey;
+  for (size_t i = 0; i < previousTraces.size(); ++i)
+    previousByKey.emplace(previousTraces[i].key.hash(), i);
+  const bool mayKeepTraces = change && !change->movesLight();
   const auto traceFrom = [&](size_t first, std::map<PolygonId, std::vector<EeeCrossing>>* to) {
     for (size_t k = first; k < eeeSurfaces_.size(); ++k) {
       EeeSurface& s = eeeSurfaces_[k];
-      for (DiscontinuitySegment& segment :
-           traceEeeSurface(s, scene, *adjacency_, *grid_, chord, to ? &crossed : nullptr)) {
+      EeeTrace trace;
+      trace.key = eeeKeyOf(s);
+      const EeeTrace* kept = nullptr;
+      if (mayKeepTraces) {
+        const auto [from, until] = previousByKey.equal_range(trace.key.hash());
+        for (auto it = from; it != until && !kept; ++it) {
+          const EeeTrace& before = previousTraces[it->second];
+          if (before.key == trace.key &&
+              std::none_of(before.cells.begin(), before.cells.end(),
+                           [&](int cell) { return movedCells[cell] != 0; }))
+            kept = &before;
+        }
+      }
+      if (kept) {
+        s.cells = kept->cells;
+        s.truncated = kept->truncated;
+        crossed = kept->crossed;
+        trace.segments = kept->segments;
+        for (DiscontinuitySegment& segment : trace.segments) segment.surface = s.id;
+        ++stats_.keptTraces;
+      } else {
+        trace.segments =
+            traceEeeSurface(s, scene, *adjacency_, *grid_, chord, to ? &crossed : nullptr);
+        if (!to) crossed.clear();
+      }
+      trace.cells = s.cells;
+      trace.truncated = s.truncated;
+      trace.crossed = crossed;
+      for (DiscontinuitySegment segment : trace.segments) {
         ++stats_.eeeSegments;
         eeeOnReceiver[segment.receiver].push_back({segment.p0, segment.p1});
         perReceiver[segment.receiver].push_back(std::move(segment));
@@ -302,6 +353,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       stats_.eeeSurfacesTruncated += s.truncated ? 1 : 0;
       if (to)
         for (PolygonId p : crossed) (*to)[s.light].push_back({s.first, s.second, p});
+      eeeTraces_.push_back(std::move(trace));
     }
   };
   const std::vector<PolygonId> eeeLights =

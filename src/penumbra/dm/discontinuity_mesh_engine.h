@@ -43,6 +43,9 @@ struct DmStats {
   // Planar surfaces whose cast (cells and stored intersections) was kept: the same fan as before,
   // and no moved object's old or new bounds in any of its cells.
   long long keptCasts = 0;
+  // EEE surfaces whose traced segments were kept: the same light and edges as before, and no
+  // moved object's old or new bounds in any of the cells their lines cross.
+  long long keptTraces = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -232,6 +235,28 @@ class DiscontinuityMeshEngine {
   // point.
   double nearEee() const;
 
+  // What tracing an EEE surface reads besides the polygons in its cells, and what it gave.
+  struct EeeKey {
+    PolygonId light = 0;
+    int kind = 0, lightEdge = -1;
+    std::vector<Vec3> ends;                        // each occluder edge's two ends
+    std::vector<std::vector<PolygonId>> incident;  // each occluder edge's polygons
+    bool operator==(const EeeKey&) const = default;
+    std::size_t hash() const {
+      std::size_t h = std::size_t(light) * 31 + std::size_t(kind) * 7 + std::size_t(lightEdge + 1);
+      for (const Vec3& p : ends)
+        for (double c : {p.x, p.y, p.z}) h = h * 1000003u ^ std::hash<double>()(c);
+      return h;
+    }
+  };
+  struct EeeTrace {
+    EeeKey key;
+    std::vector<int> cells;
+    bool truncated = false;
+    std::vector<DiscontinuitySegment> segments;
+    std::vector<PolygonId> crossed;
+  };
+
   // The computation over posed_ and grid_: everything (change null), or an update after `change`
   // that keeps the receivers whose inputs are unchanged (see update()).
   void compute(const SceneChange* change);
@@ -250,6 +275,7 @@ class DiscontinuityMeshEngine {
   std::unique_ptr<BackprojectionBuilder> backprojections_;
   std::vector<DiscontinuitySurface> surfaces_;
   std::vector<EeeSurface> eeeSurfaces_;
+  std::vector<EeeTrace> eeeTraces_;  // one per EEE surface, for the next update
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;
 };
