@@ -753,12 +753,14 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   // the backprojection is computed at the point itself there.
   if (it->second.eeeSegments.near(onPlane, nearEee())) return atPointFor(Answer::kNearEeePolyline);
   const Rgb e = backprojections_->irradiance(data.perLight, p, n, match->polygon);
-  // At a point where an occluder touches the receiver, Lambert's formula over the labelled region
-  // meets zero-length edge vectors: NaN, or a negative value. Not below zero by more than rounding.
-  const double slack = std::max(1e-15, 1e-12 * e.maxComponent());
-  if (!e.isFinite() || e.r < -slack || e.g < -slack || e.b < -slack)
-    return atPointFor(Answer::kDegenerate);
+  if (isDegenerate(e)) return atPointFor(Answer::kDegenerate);
   return Query{e, Answer::kMesh};
+}
+
+bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) {
+  if (!e.isFinite()) return true;
+  const double slack = std::max(1e-15, 1e-12 * e.maxComponent());
+  return e.r < -slack || e.g < -slack || e.b < -slack;
 }
 
 }  // namespace penumbra

@@ -161,6 +161,10 @@ class DiscontinuityMeshEngine {
   };
   // irradiance(), saying how it was answered.
   std::optional<Query> query(const Vec3& p, const Vec3& n) const;
+  // Is a value from a backprojection degenerate: not finite, or below zero by more than rounding
+  // (1e-12 of its largest channel, or 1e-15)? Lambert's formula gives such values at points where
+  // an occluder touches the receiver (zero-length edge vectors); they are answered at the point.
+  static bool isDegenerate(const Rgb& e);
   const DmStats& stats() const { return stats_; }
   const PosedScene& posedScene() const { return *posed_; }
   const UniformGrid& grid() const { return *grid_; }

@@ -15,13 +15,6 @@ namespace penumbra {
 
 namespace {
 
-// Finite and not below zero by more than rounding (1e-12 of the largest channel, or 1e-15).
-bool isValidIrradiance(const Rgb& e) {
-  if (!e.isFinite()) return false;
-  const double slack = std::max(1e-15, 1e-12 * std::max({e.r, e.g, e.b}));
-  return e.r >= -slack && e.g >= -slack && e.b >= -slack;
-}
-
 // The face's irradiance at a triangle corner. At some corners (contact corners, where an
 // occluder's edge touches the receiver, and a few corners where events meet) the face's
 // backprojection is degenerate: Lambert's formula meets zero-length edge vectors or a visible
@@ -32,16 +25,12 @@ bool isValidIrradiance(const Rgb& e) {
 Rgb cornerIrradiance(const DiscontinuityMeshEngine& engine, PolygonId receiver, int face,
                      const Vec3& p, const Vec3& inside, long long& fallbacks) {
   const Rgb atCorner = engine.faceIrradianceAt(receiver, face, p);
-  if (isValidIrradiance(atCorner)) return atCorner;
+  if (!DiscontinuityMeshEngine::isDegenerate(atCorner)) return atCorner;
   ++fallbacks;
   const Rgb exact = engine.irradianceAtPoint(receiver, p);
-  if (isValidIrradiance(exact)) return exact;
+  if (!DiscontinuityMeshEngine::isDegenerate(exact)) return exact;
   return engine.irradianceAtPoint(receiver, p + (inside - p) * 1e-6);
 }
-
-}  // namespace
-
-namespace {
 
 bool isOnSegment(const Vec3& p, const Vec3& a, const Vec3& b, double tolerance) {
   const Vec3 d = b - a;
@@ -198,7 +187,8 @@ IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine, double
       }
     }
     for (const auto& [segment, surfaces] : mesh->edges())
-      if (!surfaces.empty() && surfaces.front() != ReceiverMesh::kBoundary)
+      if (std::any_of(surfaces.begin(), surfaces.end(),
+                      [](SurfaceId id) { return id != ReceiverMesh::kBoundary; }))
         out.edges.push_back(segment);
   }
   return out;

@@ -408,12 +408,24 @@ std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
   return face->data();
 }
 
+namespace {
+
+// An edge's surfaces, sorted: the order in which the arrangement merged overlapping curves' names
+// is not a function of the segments alone (a mesh an update kept and one built again from the
+// same segments listed them in different orders).
+std::vector<SurfaceId> sortedSurfaces(const Traits::Data_container& data) {
+  std::vector<SurfaceId> surfaces(data.begin(), data.end());
+  std::sort(surfaces.begin(), surfaces.end());
+  return surfaces;
+}
+
+}  // namespace
+
 std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> ReceiverMesh::edges() const {
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> out;
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
-    std::vector<SurfaceId> surfaces(e->curve().data().begin(), e->curve().data().end());
-    out.push_back(
-        {{impl_->worldOf(e->source()), impl_->worldOf(e->target())}, std::move(surfaces)});
+    out.push_back({{impl_->worldOf(e->source()), impl_->worldOf(e->target())},
+                   sortedSurfaces(e->curve().data())});
   }
   return out;
 }
@@ -460,8 +472,7 @@ std::vector<FaceCrossing> ReceiverMesh::faceCrossings() const {
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
     const int left = e->face()->data(), right = e->twin()->face()->data();
     if (left < 0 || right < 0 || left == right) continue;
-    crossings.push_back(
-        {left, right, std::vector<SurfaceId>(e->curve().data().begin(), e->curve().data().end())});
+    crossings.push_back({left, right, sortedSurfaces(e->curve().data())});
   }
   return crossings;
 }

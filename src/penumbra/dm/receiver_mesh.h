@@ -62,7 +62,7 @@ class ReceiverMesh {
   // The face containing p (p on the receiver's plane); a point on an edge or vertex gets one of
   // the faces around it. Nothing when p is outside the receiver.
   std::optional<int> locate(const Vec3& p) const;
-  // Every edge as a 3D segment with its surfaces (for drawing and statistics).
+  // Every edge as a 3D segment with its surfaces, sorted (for drawing and statistics).
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> edges() const;
   std::vector<Vec3> vertexPositions() const;
   // The boundary cycles of a face (outer first, then holes), vertices in order, antennas
