@@ -218,11 +218,22 @@ TEST(RadiositySolver, FurnaceInChairRoom) {
     EXPECT_LT(r.largestError, 0.01);
     EXPECT_EQ(r.areaWithin1Percent, 1.0);
   }
-  // The hierarchical solution that drove refinement (each leaf the mean its ancestors' links
-  // pushed down) tightens with the tolerance (measured 44.8% of the area within 1% at 1e-3, 64.5%
-  // at 3e-4): that is what the refinement oracles control.
-  EXPECT_GT(fine.solutionAreaWithin1Percent, coarse.solutionAreaWithin1Percent + 0.05);
   EXPECT_GT(fine.links, coarse.links);
+}
+
+// The hierarchical solution that drove refinement (each leaf the mean its ancestors' links pushed
+// down) tightens with the tolerance: that is what the refinement oracles control. It shows when
+// the links' visibility is estimated finely (16 rays: measured 44.8% of the chair room's area
+// within 1% at 1e-3, 64.5% at 3e-4); with the default 4 rays per link the links' visibility noise
+// dominates the hierarchical furnace (measured 28.9% and 31.6%), while what is shown, the final
+// gather's solution, stays within 0.23% everywhere (FurnaceInChairRoom).
+TEST(RadiositySolver, HierarchicalFurnaceTightensWithTheTolerance) {
+  const Scene scene = furnace("chair-room/chair-room.json", 0.5);
+  RadiosityOptions coarseOptions = withTolerance(1e-3), fineOptions = withTolerance(3e-4);
+  coarseOptions.visibilityRays = fineOptions.visibilityRays = 16;
+  const FurnaceResult coarse = solveFurnace(scene, 0.5, coarseOptions);
+  const FurnaceResult fine = solveFurnace(scene, 0.5, fineOptions);
+  EXPECT_GT(fine.solutionAreaWithin1Percent, coarse.solutionAreaWithin1Percent + 0.05);
 }
 
 // Exact visibility against rays in the links, side by side: with exact visible form factors at
@@ -310,7 +321,8 @@ TEST(RadiositySolver, EnergyBalanceWithOneLamp) {
         std::max({std::abs(absorbed.r / emitted.r - 1), std::abs(absorbed.g / emitted.g - 1),
                   std::abs(absorbed.b / emitted.b - 1)}));
   }
-  // 1% is the target; measured 0.28% at 1e-3 and 0.32% at 3e-4 (the hierarchical solution's
+  // 1% is the target; measured 0.44% at 1e-3 and 0.25% at 3e-4 (session 9; 0.28% and 0.32%
+  // with 16 visibility rays per link; the hierarchical solution's
   // balance, before the final solution, 1.0% and 0.25%).
   for (double error : errors) EXPECT_LT(error, 0.005);
 }

@@ -90,6 +90,27 @@ Vec3 Element::samplePoint(double u, double v) const {
   return uniformInTriangle(vertices[0], vertices[2], vertices[3], (u - split) / (1 - split), v);
 }
 
+int Element::childContaining(const Vec3& p) const {
+  const auto& v = vertices;
+  // Is p on the same side of the line (a, b) as q?
+  const auto sameSide = [&](const Vec3& a, const Vec3& b, const Vec3& q) {
+    const Vec3 edge = b - a;
+    return dot(cross(edge, p - a), normal) * dot(cross(edge, q - a), normal) >= 0;
+  };
+  if (vertexCount == 3) {
+    const Vec3 m01 = (v[0] + v[1]) * 0.5, m12 = (v[1] + v[2]) * 0.5, m20 = (v[2] + v[0]) * 0.5;
+    if (sameSide(m01, m20, v[0])) return 0;
+    if (sameSide(m01, m12, v[1])) return 1;
+    if (sameSide(m20, m12, v[2])) return 2;
+    return 3;
+  }
+  const Vec3 m01 = (v[0] + v[1]) * 0.5, m12 = (v[1] + v[2]) * 0.5, m23 = (v[2] + v[3]) * 0.5,
+             m30 = (v[3] + v[0]) * 0.5;
+  const bool nearV0V1 = sameSide(m30, m12, v[0]);  // children 0 and 1
+  const bool nearV0V3 = sameSide(m01, m23, v[0]);  // children 0 and 3
+  return nearV0V1 ? (nearV0V3 ? 0 : 1) : (nearV0V3 ? 3 : 2);
+}
+
 double Element::insideness(const Vec3& p) const {
   double smallest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < vertexCount; ++i) {

@@ -59,6 +59,10 @@ struct Element {
   Vec3 samplePoint(double u, double v) const;
   // Signed distance-like inside test: >= 0 inside (smallest of the edge distances).
   double insideness(const Vec3& p) const;
+  // Which of the four children (childVertices order) holds p, a point of the element's plane:
+  // sign tests against the lines between edge midpoints, which split the element into exactly
+  // those children (a point on such a line goes to either side).
+  int childContaining(const Vec3& p) const;
 };
 
 double elementArea(const std::array<Vec3, 4>& vertices, int count);

@@ -42,6 +42,7 @@
 #include <limits>
 #include <vector>
 
+#include "penumbra/base/parallel_for.h"
 #include "penumbra/base/split_mix.h"
 #include "penumbra/geometry/cosine_direction.h"
 #include "penumbra/radiosity/radiosity_solver.h"
@@ -59,6 +60,8 @@ struct RadiositySolver::LeafGather {
   std::vector<GatherEntry> exposed;  // transfers from sources, per exposed point
   std::vector<GatherEntry> covered;  // the covering leaves, per covered point
   int coveredPoints = 0;
+  // Counted per leaf (leaves are gathered in parallel), summed into the statistics after.
+  long long rays = 0, misses = 0, clippedPoints = 0;
 };
 
 int RadiositySolver::leafAt(PolygonId polygon, const Vec3& y) const {
@@ -66,14 +69,8 @@ int RadiositySolver::leafAt(PolygonId polygon, const Vec3& y) const {
   double inside = -std::numeric_limits<double>::infinity();
   for (int root : polygonRoots_[polygon])
     if (const double d = elements_[root].insideness(y); d > inside) best = root, inside = d;
-  while (best >= 0 && !elements_[best].isLeaf()) {
-    const int first = elements_[best].firstChild;
-    best = first;
-    inside = elements_[first].insideness(y);
-    for (int k = 1; k < 4; ++k)
-      if (const double d = elements_[first + k].insideness(y); d > inside)
-        best = first + k, inside = d;
-  }
+  while (best >= 0 && !elements_[best].isLeaf())
+    best = elements_[best].firstChild + elements_[best].childContaining(y);
   return best;
 }
 
@@ -107,12 +104,14 @@ void RadiositySolver::finalGather() {
       radiositySum += e.area * e.radiometry.maxRadiosity;
     }
   const double brightRadiosity = options_.exactGatherContrast * radiositySum / areaSum;
-  // exactFor[e] == leaf: element e is the source of a link above that leaf gathered exactly.
-  std::vector<int> exactFor(elements_.size(), -1);
   std::vector<LeafGather> gathered(elements_.size());
-  for (size_t id = 0; id < elements_.size(); ++id) {
-    if (!elements_[id].isLeaf()) continue;
+  // Each leaf reads the hierarchy and writes only its own LeafGather, with a random stream of its
+  // own: the result is the same for any number of threads.
+  parallelFor((long long)elements_.size(), options_.threads, [&](long long id) {
+    if (!elements_[id].isLeaf()) return;
     const Element& leaf = elements_[id];
+    // The elements gathered exactly at this leaf (sorted): rays meeting them are already counted.
+    std::vector<int> exactSources;
     // The active links above the leaf. Gathered exactly: element sources wholly visible from the
     // leaf (no polygon meets their shaft) and bright ones (the lamps), whose shadows rays would
     // leave noisy. The others, and the root elements of cluster sources, by rays: they send the
@@ -136,7 +135,7 @@ void RadiositySolver::finalGather() {
         }
         exactLinks.push_back(index);
         occluders.push_back(std::move(hiding));
-        exactFor[s.index] = int(id);
+        exactSources.push_back(s.index);
       }
     };
     int root = int(id);
@@ -145,6 +144,7 @@ void RadiositySolver::finalGather() {
       root = e;
     }
     for (int c = rootCluster[root]; c >= 0; c = parentCluster[c]) collect(clusterLinks[c]);
+    std::sort(exactSources.begin(), exactSources.end());
     const std::vector<PolygonId>& partners = contacts_[leaf.polygon];
 
     SplitMix rng(options_.seed * 0x9e3779b97f4a7c15ull + id);
@@ -186,15 +186,17 @@ void RadiositySolver::finalGather() {
         if (!(mean > 0)) continue;
         // Visibility at the centre, applied to the cell's mean.
         const double visible =
-            f > 0
-                ? mean * visibleTransfer(x, leaf.normal, leaf.polygon, source, occluders[j], f) / f
-                : (occluders[j].empty() ? mean : 0.0);
+            f > 0 ? mean *
+                        visibleTransfer(x, leaf.normal, leaf.polygon, source, occluders[j], f,
+                                        leafGather.clippedPoints) /
+                        f
+                  : (occluders[j].empty() ? mean : 0.0);
         if (visible > 0) entries.push_back({link.source.index, visible});
         exactSum += visible;
       }
       const double remainder = 1 - exactSum;
       if (rayElements.empty() || !(remainder > 0)) continue;
-      splitRemainder(leaf, cells[k], x, remainder, rayElements, exactFor, int(id), rng, entries);
+      splitRemainder(leaf, cells[k], x, remainder, rayElements, exactSources, rng, leafGather);
     }
     // One entry per element, weights per point of its kind (the mean over those points).
     const auto merge = [](std::vector<GatherEntry>& list, int points) {
@@ -212,6 +214,11 @@ void RadiositySolver::finalGather() {
     };
     merge(leafGather.exposed, 16 - leafGather.coveredPoints);
     merge(leafGather.covered, leafGather.coveredPoints);
+  });
+  for (const LeafGather& g : gathered) {
+    stats_.finalGatherRays += g.rays;
+    stats_.finalGatherMisses += g.misses;
+    stats_.exactVisibilityPoints += g.clippedPoints;
   }
   solveLeaves(gathered);
 }
@@ -225,8 +232,9 @@ void RadiositySolver::finalGather() {
 void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell,
                                      const Vec3& x, double remainder,
                                      const std::vector<int>& rayElements,
-                                     const std::vector<int>& exactFor, int leafId, SplitMix& rng,
-                                     std::vector<GatherEntry>& entries) {
+                                     const std::vector<int>& exactSources, SplitMix& rng,
+                                     LeafGather& gather) const {
+  std::vector<GatherEntry>& entries = gather.exposed;
   constexpr double kNoRays = 1e-4;
   constexpr int kRounds = 8;
   constexpr double kSeam = 10;
@@ -244,7 +252,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
     const std::vector<PolygonId>& partners = contacts_[leaf.polygon];
     const auto isExact = [&](int h) {
       for (int e = h; e >= 0; e = elements_[e].parent)
-        if (exactFor[e] == leafId) return true;
+        if (std::binary_search(exactSources.begin(), exactSources.end(), e)) return true;
       return false;
     };
     for (int round = 0; round < kRounds && 4 * int(met.size()) < rays; ++round)
@@ -254,7 +262,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         const double a = stratified ? (r % side + rng.uniform()) / side : rng.uniform();
         const double turn = stratified ? (r / side + rng.uniform()) / side : rng.uniform();
         const Vec3 d = cosineDirection(leaf.normal, a, turn);
-        ++stats_.finalGatherRays;
+        ++gather.rays;
         // From a point uniform in the cell (the cell's mean, as the exact sources give it); one
         // covered by a polygon in contact sees nothing else and says nothing here. (Drawn v
         // first, then u, in sequence: function arguments are not.)
@@ -266,7 +274,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         const auto hit = rays_->intersect(origin, d, rays_->epsilon(),
                                           std::numeric_limits<double>::infinity(), leaf.polygon);
         if (!hit) {
-          ++stats_.finalGatherMisses;
+          ++gather.misses;
           met.push_back(-1);
           continue;
         }
@@ -283,7 +291,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
           const auto first = rays_->intersect(origin, d, 0, rays_->epsilon(), leaf.polygon);
           if (first) continue;
         }
-        if (!front) ++stats_.finalGatherMisses;
+        if (!front) ++gather.misses;
         met.push_back(front ? h : -1);
       }
   }

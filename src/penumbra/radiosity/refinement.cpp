@@ -10,21 +10,22 @@
 
 namespace penumbra {
 
-int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate) {
+Shaft RadiositySolver::linkShaft(NodeRef receiver, NodeRef source) const {
+  if (receiver.isCluster() || source.isCluster()) return Shaft(bounds(receiver), bounds(source));
+  const Element& r = elements_[receiver.index];
+  const Element& s = elements_[source.index];
+  return Shaft(Polygon3(r.vertices.begin(), r.vertices.begin() + r.vertexCount),
+               Polygon3(s.vertices.begin(), s.vertices.begin() + s.vertexCount));
+}
+
+int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate, Shaft shaft) {
   Link link;
   link.receiver = receiver;
   link.source = source;
-  if (doEstimate) estimate(link);
+  if (doEstimate) estimate(link, nullptr, &shaft);
   if (options_.storeShafts) {
     link.shaft = int(shafts_.size());
-    if (!receiver.isCluster() && !source.isCluster()) {
-      const Element& r = elements_[receiver.index];
-      const Element& s = elements_[source.index];
-      shafts_.emplace_back(Polygon3(r.vertices.begin(), r.vertices.begin() + r.vertexCount),
-                           Polygon3(s.vertices.begin(), s.vertices.begin() + s.vertexCount));
-    } else {
-      shafts_.emplace_back(bounds(receiver), bounds(source));
-    }
+    shafts_.push_back(shaft);
   }
   links_.push_back(std::move(link));
   return int(links_.size()) - 1;
@@ -104,11 +105,17 @@ void RadiositySolver::replaceLink(int index,
     Link probe;
     probe.receiver = a;
     probe.source = b;
+    PointTransfers pointValues;
+    Shaft shaft = linkShaft(a, b);
     if (!mustRefine) {
-      estimate(probe);
+      estimate(probe, &pointValues, &shaft);
       if (bothElements && probe.unoccludedTransfer <= 0) continue;
     }
-    const int child = addLink(a, b, false);
+    const int child = addLink(a, b, false, shaft);
+    if (pointValues.valid) {
+      if (pointTransfers_.size() <= size_t(child)) pointTransfers_.resize(links_.size());
+      pointTransfers_[child] = pointValues;
+    }
     links_[child].unoccludedTransfer = probe.unoccludedTransfer;
     links_[child].visibility = probe.visibility;
     links_[child].transferSpread = probe.transferSpread;
@@ -155,12 +162,24 @@ bool RadiositySolver::refineReceivers() {
     for (int index : byReceiver[p]) {
       if (pointTransfers_.size() < links_.size()) pointTransfers_.resize(links_.size());
       PointTransfers& cached = pointTransfers_[index];
-      if (!cached.valid) {
+      if (!cached.valid || cached.unoccluded) {
         if (!located) {
           points = receiver.grandchildCentres();
           for (int k = 0; k < 16; ++k) covered[k] = isCovered(receiver.polygon, points[k]);
           located = true;
         }
+      }
+      if (cached.valid && cached.unoccluded) {
+        // The quadrature's point form factors, as pointTransfer would compute them.
+        const std::vector<float>& exact = links_[index].pointVisibleTransfers;
+        for (int k = 0; k < 16; ++k)
+          cached.values[k] =
+              exact.size() == 16 ? exact[k]
+              : covered[k]       ? 0.f
+                           : float(double(cached.values[k]) * double(links_[index].visibility));
+        cached.unoccluded = false;
+      }
+      if (!cached.valid) {
         const std::vector<float>& exact = links_[index].pointVisibleTransfers;
         for (int k = 0; k < 16; ++k)
           cached.values[k] =

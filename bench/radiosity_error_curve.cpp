@@ -1,0 +1,184 @@
+// Radiosity's error curve: for a range of tolerances, the solve time, elements, links and the
+// median and 95th percentile of the relative error of the total irradiance at open receiver
+// points, against an independent path tracer (lighting/path_traced_reference.h: exact direct
+// light by polygon clipping, indirect by cosine-distributed paths).
+//
+// Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
+//                              [--no-final-gather] [--visibility-rays N] [--gather-rays N]
+//                              [scene.json ...]
+// (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 4096 paths per point).
+//
+// Open points: uniform by area over the receivers' front sides, minus those where the reference
+// total irradiance is below 1e-3 of the points' mean (covered by a polygon in contact: relative
+// error means nothing there). The reference is cached next to the binary, keyed by scene, points,
+// paths and seed, so the curve can be re-run while the solver changes.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "penumbra/base/parallel_for.h"
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/lighting/path_traced_reference.h"
+#include "penumbra/radiosity/radiosity_solver.h"
+#include "penumbra/scene/receiver_sampling.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/uniform_grid.h"
+
+using namespace penumbra;
+
+namespace {
+
+struct Options {
+  int points = 150;
+  int paths = 4096;
+  int threads = 1;
+  bool finalGather = true;
+  int visibilityRays = 0;  // 0: the solver's default
+  int gatherRays = 0;
+  std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
+  std::vector<std::string> scenes;
+};
+
+struct OpenPoint {
+  ReceiverPoint point;
+  double reference = 0;  // total irradiance, mean of the channels
+  double standardError = 0;
+};
+
+std::string cachePath(const std::string& scene, const Options& o) {
+  const std::size_t key = std::hash<std::string>{}(scene);
+  std::ostringstream name;
+  name << "radiosity_reference_" << std::hex << key << std::dec << "_" << o.points << "_" << o.paths
+       << ".txt";
+  return name.str();
+}
+
+std::vector<OpenPoint> referencePoints(const std::string& path, const PosedScene& posed,
+                                       const Options& o) {
+  const std::vector<ReceiverPoint> sampled = sampleReceiverPoints(posed, o.points, 7);
+  std::vector<OpenPoint> all(sampled.size());
+  const std::string cache = cachePath(path, o);
+  std::ifstream in(cache);
+  bool cached = bool(in);
+  for (size_t i = 0; i < all.size() && cached; ++i) {
+    all[i].point = sampled[i];
+    cached = bool(in >> all[i].reference >> all[i].standardError);
+  }
+  if (!cached) {
+    const auto start = std::chrono::steady_clock::now();
+    const UniformGrid grid(posed);
+    const ExactReference exact(posed, &grid);
+    const RayCaster rays(posed);
+    const PathTracedReference tracer(posed, rays, exact);
+    parallelFor((long long)all.size(), 0, [&](long long i) {
+      const ReceiverPoint& p = sampled[i];
+      const PathTracedEstimate e = tracer.irradiance(p.p, p.n, p.receiver, o.paths, 1000 + i);
+      all[i] = {p, (e.direct + e.indirect).average(), e.indirectStandardError.average()};
+    });
+    std::ofstream out(cache);
+    out.precision(17);
+    for (const OpenPoint& p : all) out << p.reference << " " << p.standardError << "\n";
+    std::printf("# reference: %zu points x %d paths in %.1f s (cached in %s)\n", all.size(),
+                o.paths,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                cache.c_str());
+  }
+  double mean = 0;
+  for (const OpenPoint& p : all) mean += p.reference / double(all.size());
+  std::vector<OpenPoint> open;
+  for (const OpenPoint& p : all)
+    if (p.reference > 1e-3 * mean) open.push_back(p);
+  return open;
+}
+
+double percentile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  const double at = q * double(values.size() - 1);
+  const size_t i = size_t(at);
+  const double t = at - double(i);
+  return i + 1 < values.size() ? values[i] * (1 - t) + values[i + 1] * t : values[i];
+}
+
+void run(const std::string& path, const Options& o) {
+  const PosedScene posed = poseAt(loadScene(path), 0);
+  const std::vector<OpenPoint> points = referencePoints(path, posed, o);
+  std::vector<double> relativeNoise;
+  for (const OpenPoint& p : points) relativeNoise.push_back(p.standardError / p.reference);
+  std::printf("%s: %zu open points, reference standard error median %.2f%%\n", path.c_str(),
+              points.size(), 100 * percentile(relativeNoise, 0.5));
+  std::printf("%10s %8s %9s %9s %10s %8s %8s %9s %9s %9s\n", "tolerance", "threads", "seconds",
+              "elements", "links", "median", "p95", "refine", "solve", "gather");
+  for (double tolerance : o.tolerances) {
+    RadiosityOptions options;
+    options.tolerance = tolerance;
+    options.finalGather = o.finalGather;
+    options.threads = o.threads;
+    if (o.visibilityRays > 0) options.visibilityRays = o.visibilityRays;
+    if (o.gatherRays > 0) options.finalGatherRays = o.gatherRays;
+    RadiositySolver solver(options);
+    const auto start = std::chrono::steady_clock::now();
+    solver.build(posed);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::vector<double> errors;
+    for (const OpenPoint& p : points) {
+      const double ours = solver.irradiance(p.point.p, p.point.n).average();
+      errors.push_back(std::abs(ours - p.reference) / p.reference);
+    }
+    const RadiosityStats& s = solver.stats();
+    std::printf("%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %9.3f %9.3f %9.3f\n", tolerance,
+                o.threads, seconds, s.elements, s.activeLinks, 100 * percentile(errors, 0.5),
+                100 * percentile(errors, 0.95), s.refineSeconds, s.solveSeconds,
+                s.finalGatherSeconds);
+    std::fflush(stdout);
+  }
+}
+
+std::vector<double> parseList(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) values.push_back(std::stod(item));
+  return values;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", arg.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (arg == "--points")
+      o.points = std::stoi(next());
+    else if (arg == "--paths")
+      o.paths = std::stoi(next());
+    else if (arg == "--threads")
+      o.threads = std::stoi(next());
+    else if (arg == "--tolerances")
+      o.tolerances = parseList(next());
+    else if (arg == "--no-final-gather")
+      o.finalGather = false;
+    else
+      o.scenes.push_back(arg);
+  }
+  if (o.scenes.empty())
+    o.scenes.push_back(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json");
+  for (const std::string& scene : o.scenes) run(scene, o);
+}
