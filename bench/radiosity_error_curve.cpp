@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,6 +54,7 @@ struct OpenPoint {
   ReceiverPoint point;
   double reference = 0;  // total irradiance, mean of the channels
   double standardError = 0;
+  double direct = 0;  // the exact direct irradiance (not cached: cheap)
 };
 
 std::string cachePath(const std::string& scene, const Options& o) {
@@ -93,6 +95,10 @@ std::vector<OpenPoint> referencePoints(const std::string& path, const PosedScene
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                 cache.c_str());
   }
+  const UniformGrid grid(posed);
+  const ExactReference exact(posed, &grid);
+  for (OpenPoint& p : all)
+    p.direct = exact.irradiance(p.point.p, p.point.n, p.point.receiver).average();
   double mean = 0;
   for (const OpenPoint& p : all) mean += p.reference / double(all.size());
   std::vector<OpenPoint> open;
@@ -116,8 +122,9 @@ void run(const std::string& path, const Options& o) {
   for (const OpenPoint& p : points) relativeNoise.push_back(p.standardError / p.reference);
   std::printf("%s: %zu open points, reference standard error median %.2f%%\n", path.c_str(),
               points.size(), 100 * percentile(relativeNoise, 0.5));
-  std::printf("%10s %8s %9s %9s %10s %8s %8s %9s %9s %9s\n", "tolerance", "threads", "seconds",
-              "elements", "links", "median", "p95", "refine", "solve", "gather");
+  std::printf("%10s %8s %9s %9s %10s %8s %8s %9s %9s %9s %9s %9s\n", "tolerance", "threads",
+              "seconds", "elements", "links", "median", "p95", "direct", "indirect", "refine",
+              "solve", "gather");
   for (double tolerance : o.tolerances) {
     RadiosityOptions options;
     options.tolerance = tolerance;
@@ -130,16 +137,26 @@ void run(const std::string& path, const Options& o) {
     solver.build(posed);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::vector<double> errors;
+    // The total's error, and the parts of it that its direct and indirect terms make (each
+    // against the total, so the three are comparable).
+    std::vector<double> errors, directErrors, indirectErrors;
+    double signedIndirect = 0;
     for (const OpenPoint& p : points) {
-      const double ours = solver.irradiance(p.point.p, p.point.n).average();
-      errors.push_back(std::abs(ours - p.reference) / p.reference);
+      const std::optional<RadiositySample> sample = solver.sample(p.point.p, p.point.n);
+      const double direct = sample ? sample->direct.average() : 0;
+      const double indirect = sample ? sample->indirect.average() : 0;
+      errors.push_back(std::abs(direct + indirect - p.reference) / p.reference);
+      directErrors.push_back(std::abs(direct - p.direct) / p.reference);
+      indirectErrors.push_back(std::abs(indirect - (p.reference - p.direct)) / p.reference);
+      signedIndirect += (indirect - (p.reference - p.direct)) / p.reference / double(points.size());
     }
     const RadiosityStats& s = solver.stats();
-    std::printf("%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %9.3f %9.3f %9.3f\n", tolerance,
-                o.threads, seconds, s.elements, s.activeLinks, 100 * percentile(errors, 0.5),
-                100 * percentile(errors, 0.95), s.refineSeconds, s.solveSeconds,
-                s.finalGatherSeconds);
+    std::printf("%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %8.2f%% %8.2f%% %9.3f %9.3f %9.3f\n",
+                tolerance, o.threads, seconds, s.elements, s.activeLinks,
+                100 * percentile(errors, 0.5), 100 * percentile(errors, 0.95),
+                100 * percentile(directErrors, 0.5), 100 * percentile(indirectErrors, 0.5),
+                s.refineSeconds, s.solveSeconds, s.finalGatherSeconds);
+    std::printf("# mean signed indirect error %.2f%%\n", 100 * signedIndirect);
     std::fflush(stdout);
   }
 }
@@ -175,6 +192,10 @@ int main(int argc, char** argv) {
       o.tolerances = parseList(next());
     else if (arg == "--no-final-gather")
       o.finalGather = false;
+    else if (arg == "--visibility-rays")
+      o.visibilityRays = std::stoi(next());
+    else if (arg == "--gather-rays")
+      o.gatherRays = std::stoi(next());
     else
       o.scenes.push_back(arg);
   }

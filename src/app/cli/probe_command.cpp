@@ -111,7 +111,9 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                           {"degenerate", answers[Answer::kDegenerate]}};
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
-    RadiositySolver solver(options.radiosity);
+    RadiosityOptions radiosityOptions = options.radiosity;
+    radiosityOptions.threads = common.threads;  // the result does not depend on it
+    RadiositySolver solver(radiosityOptions);
     solver.build(live);
     walkToFrame(live, options.frame,
                 [&](const SceneChange& change) { solver.update(live, change); });

@@ -94,7 +94,9 @@ void renderRaytrace(const RenderOptions& options, const CommonOptions& common,
 // The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
 void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
                      const DynamicScene& live, const Camera& camera) {
-  RadiositySolver solver(options.radiosity);
+  RadiosityOptions radiosityOptions = options.radiosity;
+  radiosityOptions.threads = common.threads;  // the result does not depend on it
+  RadiositySolver solver(radiosityOptions);
   solver.build(live);
   const ColoredMesh mesh = radianceMesh(solver.mesh());
   const auto context = GlContext::createHeadless();

@@ -57,6 +57,7 @@ const char* methodName(ViewMethod method) {
 
 SceneView::SceneView(const Scene& scene, ViewMethod method, const RadiosityOptions& radiosity)
     : live_(scene, 0), method_(method), radiosityOptions_(radiosity) {
+  radiosityOptions_.threads = 0;  // every core: the solution does not depend on it
   volumes_.build(live_);
 }
 

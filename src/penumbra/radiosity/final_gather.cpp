@@ -278,8 +278,6 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
           met.push_back(-1);
           continue;
         }
-        const int h = leafAt(hit->polygon, hit->point);
-        if (h >= 0 && isExact(h)) continue;
         const bool front = dot(scene_.polygons[hit->polygon].plane.normal, d) < 0;
         // A back face met through a surface the ray left within the caster's epsilon of its
         // origin (an origin a hair beside a book standing on a shelf: the ray passes the
@@ -291,8 +289,18 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
           const auto first = rays_->intersect(origin, d, 0, rays_->epsilon(), leaf.polygon);
           if (first) continue;
         }
-        if (!front) ++gather.misses;
-        met.push_back(front ? h : -1);
+        if (!front) {
+          ++gather.misses;
+          met.push_back(-1);
+          continue;
+        }
+        // The front of an exact source is already counted; its back is not (it sends nothing,
+        // and is part of the remainder like any back face: the ceiling right above a lamp hung
+        // 1 mm below it sees almost nothing but the lamp's back, and skipping those rays gave
+        // the few that escape sideways the whole remainder, +54% indirect light there).
+        const int h = leafAt(hit->polygon, hit->point);
+        if (h >= 0 && isExact(h)) continue;
+        met.push_back(h);
       }
   }
   if (!met.empty()) {

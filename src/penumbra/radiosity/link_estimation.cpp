@@ -313,7 +313,8 @@ double sourceSideSpread(const Element& source, const Element& receiver) {
 
 }  // namespace
 
-void RadiositySolver::estimate(Link& link, PointTransfers* pointValues, const Shaft* shaft) {
+void RadiositySolver::estimate(Link& link, EstimateCounters& counters, PointTransfers* pointValues,
+                               const Shaft* shaft) const {
   SplitMix rng(linkSeed(options_.seed, link.receiver, link.source));
   const NodeRef r = link.receiver, s = link.source;
   if (!r.isCluster() && !s.isCluster()) {
@@ -342,7 +343,7 @@ void RadiositySolver::estimate(Link& link, PointTransfers* pointValues, const Sh
     }
     if (options_.exactVisibility && !options_.elementSourceShares &&
         link.unoccludedTransfer >= options_.exactVisibilityMinTransfer) {
-      estimateExactVisibility(link, re, se);
+      estimateExactVisibility(link, re, se, counters);
       return;
     }
     // Nothing in the link's shaft and no polygon in contact with either end: every ray would
@@ -351,7 +352,7 @@ void RadiositySolver::estimate(Link& link, PointTransfers* pointValues, const Sh
         contacts_[se.polygon].empty() &&
         (shaft ? shaftOccluders(*shaft, re.polygon, se.polygon) : shaftOccluders(re, se)).empty()) {
       link.visibility = 1;
-      ++stats_.unoccludedByShaft;
+      ++counters.unoccludedByShaft;
       return;
     }
     // Stratified jittered points on both ends, the source strata shuffled against the receiver's.
@@ -406,7 +407,7 @@ void RadiositySolver::estimate(Link& link, PointTransfers* pointValues, const Sh
         landed[cell] += weight;
       }
     }
-    stats_.visibilityRays += n;
+    counters.visibilityRays += n;
     link.visibility = weightSum > 0 ? float(visibleWeight / weightSum) : 0.f;
     link.sourceShares.clear();
     if (const double total = std::accumulate(landed.begin(), landed.end(), 0.0);
@@ -445,7 +446,7 @@ void RadiositySolver::estimate(Link& link, PointTransfers* pointValues, const Sh
         sources.size() - 1);
     const double second = rng.uniform(), first = rng.uniform();  // in sequence, as above
     const Vec3 y = sampleSeenFrom(x.position, x.normal, elements_[sources[k]], first, second);
-    ++stats_.visibilityRays;
+    ++counters.visibilityRays;
     if (isVisible(x.polygon, x.position, elements_[sources[k]].polygon, y)) visible += f;
   }
   link.unoccludedTransfer = float(unoccluded / n);
@@ -498,7 +499,8 @@ double RadiositySolver::visibleTransfer(const Vec3& x, const Vec3& normal, Polyg
 // 16 grandchild centres, each visible form factor exact (the source clipped by the projections of
 // the shaft's polygons from that point). No noise: a closed scene's visible form factors from a
 // point sum to 1, which the rays' estimate only did on average.
-void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, const Element& se) {
+void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, const Element& se,
+                                              EstimateCounters& counters) const {
   link.pointVisibleTransfers.clear();
   const std::vector<PolygonId> occluders = shaftOccluders(re, se);
   if (occluders.empty() && contacts_[re.polygon].empty()) {
@@ -510,7 +512,7 @@ void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, con
     const double f = pointToElement(x, re.normal, se);
     if (!(f > 0) || isCovered(re.polygon, x)) return {f, 0.0};
     return {f, visibleTransfer(x, re.normal, re.polygon, se, occluders, f,
-                               stats_.exactVisibilityPoints)};
+                               counters.exactVisibilityPoints)};
   };
   double unoccluded = 0, visible = 0;
   link.pointVisibleTransfers.resize(16);

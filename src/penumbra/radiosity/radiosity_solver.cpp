@@ -122,8 +122,9 @@ void RadiositySolver::compute() {
   pullEmission({NodeRef::kCluster, 0});
 
   // The root self-link: every interaction of the scene starts as this one link and is refined.
-  addLink({NodeRef::kCluster, 0}, {NodeRef::kCluster, 0}, false,
-          linkShaft({NodeRef::kCluster, 0}, {NodeRef::kCluster, 0}));
+  Link rootLink;
+  rootLink.receiver = rootLink.source = {NodeRef::kCluster, 0};
+  addLink(rootLink, linkShaft(rootLink.receiver, rootLink.source));
   for (int pass = 0; pass < std::max(1, options_.refinementPasses); ++pass) {
     const auto refineStart = std::chrono::steady_clock::now();
     bool refined = refineActiveLinks();

@@ -92,7 +92,8 @@ struct RadiosityOptions {
   int finalGatherRays = 32;
   double exactGatherContrast = 4;
   std::uint64_t seed = 1;
-  // Worker threads for the final gather (0: all cores); the result does not depend on it.
+  // Worker threads for link estimation, the receiver oracle and the final gather (0: all
+  // cores); the result does not depend on it.
   int threads = 1;
 };
 
@@ -193,7 +194,8 @@ class RadiositySolver {
   void clear();
   void buildElements();
   int buildCluster(int begin, int end, int depth);
-  int addLink(NodeRef receiver, NodeRef source, bool estimate, Shaft shaft);
+  // Appends a link (with its shaft when shafts are stored) and returns its index.
+  int addLink(const Link& link, const Shaft& shaft);
   // The receiver oracle's point values of a link (see pointTransfers_).
   struct PointTransfers {
     std::array<float, 16> values{};
@@ -202,15 +204,23 @@ class RadiositySolver {
     // zeroed at points covered by a polygon in contact; otherwise they are the point transfers.
     bool unoccluded = false;
   };
+  // What estimating links counts, per link (links are estimated in parallel), summed after.
+  struct EstimateCounters {
+    long long visibilityRays = 0;
+    long long unoccludedByShaft = 0;
+    long long exactVisibilityPoints = 0;
+  };
   // Estimates the link; `pointValues`, when given, receives the unoccluded form factors at the
-  // receiver's 16 grandchild centres when the quadrature computed them.
-  // `shaft`, when given, is the link's shaft (it culls the occluder candidates).
-  void estimate(Link& link, PointTransfers* pointValues = nullptr, const Shaft* shaft = nullptr);
+  // receiver's 16 grandchild centres when the quadrature computed them; `shaft`, when given, is
+  // the link's shaft (it culls the occluder candidates). Thread-safe: reads the hierarchy only.
+  void estimate(Link& link, EstimateCounters& counters, PointTransfers* pointValues = nullptr,
+                const Shaft* shaft = nullptr) const;
   // The shaft between a link's ends: polygon-to-polygon between elements, box-to-box otherwise.
   Shaft linkShaft(NodeRef receiver, NodeRef source) const;
   // Exact visibility of the source element from the receiver element's 16 grandchild centres
   // (the receiver oracle's points): fills link.pointVisibleTransfers and link.visibility.
-  void estimateExactVisibility(Link& link, const Element& receiver, const Element& source);
+  void estimateExactVisibility(Link& link, const Element& receiver, const Element& source,
+                               EstimateCounters& counters) const;
   // The exact visible form factor from x (normal `normal`, on polygon `receiver`) to `source`,
   // whose unoccluded form factor from x is `unoccluded`, hidden only by `occluders` (none: the
   // unoccluded one). Snapped to exactly 0 or `unoccluded` within rounding of either.
@@ -221,9 +231,22 @@ class RadiositySolver {
   std::vector<PolygonId> shaftOccluders(const Element& receiver, const Element& source) const;
   std::vector<PolygonId> shaftOccluders(const Shaft& shaft, PolygonId receiver,
                                         PolygonId source) const;
-  void refineLink(int link);
-  void replaceLink(int link, const std::vector<std::pair<NodeRef, NodeRef>>& pairs);
+  // Refinement runs in waves (breadth first): the oracles decide and nodes are split in link
+  // order on one thread, then the new links are estimated in parallel, then appended in order,
+  // so the hierarchy is the same for any number of threads.
+  // The node pairs that replace link `index` when the link oracle refines it (splitting its
+  // receiver or source), or nothing.
+  std::optional<std::vector<std::pair<NodeRef, NodeRef>>> refinementOf(int index);
+  // Each (link, pairs): the link becomes passive and its children are the pairs that can
+  // exchange energy, estimated in parallel. Returns the new links, in order.
+  std::vector<int> replaceLinks(
+      const std::vector<std::pair<int, std::vector<std::pair<NodeRef, NodeRef>>>>& replacements);
+  // Refines the links, then their children, ..., until the link oracle is satisfied.
+  void refineInWaves(std::vector<int> links);
   bool refineReceivers();
+  // The receiver oracle for element p and its active links. Thread-safe across receivers: writes
+  // only the point-transfer cache of those links.
+  bool receiverNeedsSplit(int p, const std::vector<int>& links);
   // The link's transfer seen from the point x of its element receiver (`covered`: x lies under a
   // polygon in contact with the receiver).
   double pointTransfer(const Link& link, const Vec3& x, const Vec3& normal, bool covered) const;

@@ -5,8 +5,11 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <utility>
 #include <vector>
+
+#include "penumbra/base/parallel_for.h"
 
 namespace penumbra {
 
@@ -18,16 +21,12 @@ Shaft RadiositySolver::linkShaft(NodeRef receiver, NodeRef source) const {
                Polygon3(s.vertices.begin(), s.vertices.begin() + s.vertexCount));
 }
 
-int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate, Shaft shaft) {
-  Link link;
-  link.receiver = receiver;
-  link.source = source;
-  if (doEstimate) estimate(link, nullptr, &shaft);
+int RadiositySolver::addLink(const Link& link, const Shaft& shaft) {
+  links_.push_back(link);
   if (options_.storeShafts) {
-    link.shaft = int(shafts_.size());
+    links_.back().shaft = int(shafts_.size());
     shafts_.push_back(shaft);
   }
-  links_.push_back(std::move(link));
   return int(links_.size()) - 1;
 }
 
@@ -45,13 +44,13 @@ int RadiositySolver::addLink(NodeRef receiver, NodeRef source, bool doEstimate, 
 // and its leaves strayed from 5% to 230% of the furnace irradiance.) Clusters whose boxes overlap
 // cannot be linked as wholes (their mutual form factor is meaningless), so such links are always
 // refined.
-void RadiositySolver::refineLink(int index) {
+std::optional<std::vector<std::pair<NodeRef, NodeRef>>> RadiositySolver::refinementOf(int index) {
   const NodeRef r = links_[index].receiver, s = links_[index].source;
   const bool selfLink = r == s;
   const bool overlapping =
       (r.isCluster() || s.isCluster()) && (selfLink || bounds(r).overlaps(bounds(s)));
   const bool splitR = canSplit(r), splitS = canSplit(s);
-  if (!splitR && !splitS) return;
+  if (!splitR && !splitS) return std::nullopt;
   if (!overlapping) {
     const Link& link = links_[index];
     const NodeRadiometry& b = radiometry(s);
@@ -64,7 +63,7 @@ void RadiositySolver::refineLink(int index) {
     // cover or visibility: the whole transfer may be misplaced, at every point of the cluster.
     const bool clusterReceiverError =
         r.isCluster() && exceedsTolerance(r, transfer * b.maxRadiosity);
-    if (!(power > options_.tolerance * totalPower_) && !clusterReceiverError) return;
+    if (!(power > options_.tolerance * totalPower_) && !clusterReceiverError) return std::nullopt;
   }
   std::vector<std::pair<NodeRef, NodeRef>> pairs;
   if (selfLink) {
@@ -80,55 +79,83 @@ void RadiositySolver::refineLink(int index) {
     else
       for (NodeRef b : split(s)) pairs.push_back({r, b});
   }
-  replaceLink(index, pairs);
+  return pairs;
 }
 
-// The link becomes passive; its children are the pairs that can exchange energy, each estimated
-// (or left for refinement when a cluster end overlaps the other end) and refined in turn.
-void RadiositySolver::replaceLink(int index,
-                                  const std::vector<std::pair<NodeRef, NodeRef>>& pairs) {
-  std::vector<int> children;
-  for (const auto& [a, b] : pairs) {
-    const bool bothElements = !a.isCluster() && !b.isCluster();
-    if (bothElements && elements_[a.index].polygon == elements_[b.index].polygon) continue;
-    // Nothing passes between a node entirely behind the other's element plane and that element.
-    if (!a.isCluster()) {
-      const Element& e = elements_[a.index];
-      if (isBehind(b, Plane::fromPointNormal(e.vertices[0], e.normal))) continue;
-    }
-    if (!b.isCluster()) {
-      const Element& e = elements_[b.index];
-      if (isBehind(a, Plane::fromPointNormal(e.vertices[0], e.normal))) continue;
-    }
-    const bool mustRefine =
-        (a.isCluster() || b.isCluster()) && (a == b || bounds(a).overlaps(bounds(b)));
-    Link probe;
-    probe.receiver = a;
-    probe.source = b;
+// Each link becomes passive; its children are the pairs that can exchange energy, each estimated
+// (or left for refinement when a cluster end overlaps the other end). The pairs are filtered in
+// order, estimated in parallel (estimate reads the hierarchy only; nothing is split meanwhile)
+// and appended in order.
+std::vector<int> RadiositySolver::replaceLinks(
+    const std::vector<std::pair<int, std::vector<std::pair<NodeRef, NodeRef>>>>& replacements) {
+  struct Candidate {
+    int parent = 0;
+    bool mustRefine = false;
+    Link link;
+    Shaft shaft;
     PointTransfers pointValues;
-    Shaft shaft = linkShaft(a, b);
-    if (!mustRefine) {
-      estimate(probe, &pointValues, &shaft);
-      if (bothElements && probe.unoccludedTransfer <= 0) continue;
+    EstimateCounters counters;
+  };
+  std::vector<Candidate> candidates;
+  for (const auto& [index, pairs] : replacements)
+    for (const auto& [a, b] : pairs) {
+      const bool bothElements = !a.isCluster() && !b.isCluster();
+      if (bothElements && elements_[a.index].polygon == elements_[b.index].polygon) continue;
+      // Nothing passes between a node entirely behind the other's element plane and that element.
+      if (!a.isCluster()) {
+        const Element& e = elements_[a.index];
+        if (isBehind(b, Plane::fromPointNormal(e.vertices[0], e.normal))) continue;
+      }
+      if (!b.isCluster()) {
+        const Element& e = elements_[b.index];
+        if (isBehind(a, Plane::fromPointNormal(e.vertices[0], e.normal))) continue;
+      }
+      Candidate& c = candidates.emplace_back();
+      c.parent = index;
+      c.mustRefine = (a.isCluster() || b.isCluster()) && (a == b || bounds(a).overlaps(bounds(b)));
+      c.link.receiver = a;
+      c.link.source = b;
     }
-    const int child = addLink(a, b, false, shaft);
-    if (pointValues.valid) {
-      if (pointTransfers_.size() <= size_t(child)) pointTransfers_.resize(links_.size());
-      pointTransfers_[child] = pointValues;
+  parallelFor((long long)candidates.size(), options_.threads, [&](long long i) {
+    Candidate& c = candidates[i];
+    c.shaft = linkShaft(c.link.receiver, c.link.source);
+    if (!c.mustRefine) estimate(c.link, c.counters, &c.pointValues, &c.shaft);
+  });
+  std::vector<int> added;
+  size_t next = 0;
+  for (const auto& [index, pairs] : replacements) {
+    std::vector<int> children;
+    for (; next < candidates.size() && candidates[next].parent == index; ++next) {
+      Candidate& c = candidates[next];
+      stats_.visibilityRays += c.counters.visibilityRays;
+      stats_.unoccludedByShaft += c.counters.unoccludedByShaft;
+      stats_.exactVisibilityPoints += c.counters.exactVisibilityPoints;
+      const bool bothElements = !c.link.receiver.isCluster() && !c.link.source.isCluster();
+      if (!c.mustRefine && bothElements && c.link.unoccludedTransfer <= 0) continue;
+      const int child = addLink(c.link, c.shaft);
+      if (c.pointValues.valid) {
+        if (pointTransfers_.size() < links_.size()) pointTransfers_.resize(links_.size());
+        pointTransfers_[child] = c.pointValues;
+      }
+      children.push_back(child);
     }
-    links_[child].unoccludedTransfer = probe.unoccludedTransfer;
-    links_[child].visibility = probe.visibility;
-    links_[child].transferSpread = probe.transferSpread;
-    links_[child].sourceSpread = probe.sourceSpread;
-    links_[child].sourceShares = std::move(probe.sourceShares);
-    links_[child].pointVisibleTransfers = std::move(probe.pointVisibleTransfers);
-    children.push_back(child);
+    Link& link = links_[index];
+    link.active = false;
+    link.children = children;
+    link.sourceShares = {};
+    link.pointVisibleTransfers = {};
+    added.insert(added.end(), children.begin(), children.end());
   }
-  links_[index].active = false;
-  links_[index].children = children;
-  links_[index].sourceShares = {};
-  links_[index].pointVisibleTransfers = {};
-  for (int child : children) refineLink(child);
+  return added;
+}
+
+void RadiositySolver::refineInWaves(std::vector<int> wave) {
+  while (!wave.empty()) {
+    std::vector<std::pair<int, std::vector<std::pair<NodeRef, NodeRef>>>> replacements;
+    for (int index : wave)
+      if (auto pairs = refinementOf(index)) replacements.push_back({index, std::move(*pairs)});
+    wave = replaceLinks(replacements);
+  }
 }
 
 // Receiver refinement. Gathering hands every part of a receiver the mean of what its links bring,
@@ -141,76 +168,97 @@ void RadiositySolver::replaceLink(int index,
 // against the same power threshold as links; where it is exceeded, all the receiver's links
 // move down to its children.
 bool RadiositySolver::refineReceivers() {
-  std::vector<std::vector<int>> byReceiver(elements_.size());
-  std::vector<int> pending;
-  for (size_t i = 0; i < links_.size(); ++i)
-    if (links_[i].active && !links_[i].receiver.isCluster()) {
-      const int p = links_[i].receiver.index;
-      if (byReceiver[p].empty()) pending.push_back(p);
-      byReceiver[p].push_back(int(i));
-    }
+  std::vector<int> pending;  // receivers to examine, in increasing order
+  {
+    std::vector<char> seen(elements_.size(), 0);
+    for (const Link& link : links_)
+      if (link.active && !link.receiver.isCluster() && !seen[link.receiver.index]) {
+        seen[link.receiver.index] = 1;
+        pending.push_back(link.receiver.index);
+      }
+    std::sort(pending.begin(), pending.end());
+  }
   bool refined = false;
   while (!pending.empty()) {
-    const int p = pending.back();
-    pending.pop_back();
-    if (byReceiver[p].empty() || !canSplit({NodeRef::kElement, p})) continue;
-    const Element receiver = elements_[p];
-    std::array<Vec3, 16> points{};
-    std::array<bool, 16> covered{};
-    bool located = false;
-    std::array<double, 16> sum{};
-    for (int index : byReceiver[p]) {
-      if (pointTransfers_.size() < links_.size()) pointTransfers_.resize(links_.size());
-      PointTransfers& cached = pointTransfers_[index];
-      if (!cached.valid || cached.unoccluded) {
-        if (!located) {
-          points = receiver.grandchildCentres();
-          for (int k = 0; k < 16; ++k) covered[k] = isCovered(receiver.polygon, points[k]);
-          located = true;
-        }
+    // Each pending receiver's active links, in link order.
+    std::vector<int> slot(elements_.size(), -1);
+    for (size_t k = 0; k < pending.size(); ++k) slot[pending[k]] = int(k);
+    std::vector<std::vector<int>> byReceiver(pending.size());
+    for (size_t i = 0; i < links_.size(); ++i)
+      if (links_[i].active && !links_[i].receiver.isCluster())
+        if (const int k = slot[links_[i].receiver.index]; k >= 0) byReceiver[k].push_back(int(i));
+    // The oracle, receiver by receiver in parallel (each writes only its own links' cache).
+    if (pointTransfers_.size() < links_.size()) pointTransfers_.resize(links_.size());
+    std::vector<char> splitting(pending.size(), 0);
+    parallelFor((long long)pending.size(), options_.threads, [&](long long k) {
+      const int p = pending[k];
+      if (byReceiver[k].empty() || !canSplit({NodeRef::kElement, p})) return;
+      splitting[k] = receiverNeedsSplit(p, byReceiver[k]) ? 1 : 0;
+    });
+    std::vector<std::pair<int, std::vector<std::pair<NodeRef, NodeRef>>>> replacements;
+    for (size_t k = 0; k < pending.size(); ++k) {
+      if (!splitting[k]) continue;
+      refined = true;
+      const std::vector<NodeRef> children = split({NodeRef::kElement, pending[k]});
+      for (int index : byReceiver[k]) {
+        std::vector<std::pair<NodeRef, NodeRef>> pairs;
+        for (NodeRef c : children) pairs.push_back({c, links_[index].source});
+        replacements.push_back({index, std::move(pairs)});
       }
-      if (cached.valid && cached.unoccluded) {
-        // The quadrature's point form factors, as pointTransfer would compute them.
-        const std::vector<float>& exact = links_[index].pointVisibleTransfers;
-        for (int k = 0; k < 16; ++k)
-          cached.values[k] =
-              exact.size() == 16 ? exact[k]
-              : covered[k]       ? 0.f
-                           : float(double(cached.values[k]) * double(links_[index].visibility));
-        cached.unoccluded = false;
-      }
-      if (!cached.valid) {
-        const std::vector<float>& exact = links_[index].pointVisibleTransfers;
-        for (int k = 0; k < 16; ++k)
-          cached.values[k] =
-              exact.size() == 16
-                  ? exact[k]
-                  : float(pointTransfer(links_[index], points[k], receiver.normal, covered[k]));
-        cached.valid = true;
-      }
-      const double b = sourceValue(links_[index], &NodeRadiometry::radiosity).maxComponent();
-      for (int k = 0; k < 16; ++k) sum[k] += cached.values[k] * b;
     }
-    const auto [lowest, highest] = std::minmax_element(sum.begin(), sum.end());
-    if (!((*highest - *lowest) * receiver.area > options_.tolerance * totalPower_)) continue;
-    refined = true;
-    const std::vector<NodeRef> children = split({NodeRef::kElement, p});
+    // The receivers' new links, refined by the link oracle; then every element receiver that
+    // got a link is examined again.
     const size_t firstNew = links_.size();
-    for (int index : byReceiver[p]) {
-      std::vector<std::pair<NodeRef, NodeRef>> pairs;
-      for (NodeRef c : children) pairs.push_back({c, links_[index].source});
-      replaceLink(index, pairs);
-    }
-    byReceiver[p].clear();
-    byReceiver.resize(elements_.size());
+    refineInWaves(replaceLinks(replacements));
+    std::vector<char> seen(elements_.size(), 0);
+    pending.clear();
     for (size_t i = firstNew; i < links_.size(); ++i)
-      if (links_[i].active && !links_[i].receiver.isCluster()) {
-        const int q = links_[i].receiver.index;
-        if (std::find(pending.begin(), pending.end(), q) == pending.end()) pending.push_back(q);
-        byReceiver[q].push_back(int(i));
+      if (links_[i].active && !links_[i].receiver.isCluster() && !seen[links_[i].receiver.index]) {
+        seen[links_[i].receiver.index] = 1;
+        pending.push_back(links_[i].receiver.index);
       }
+    std::sort(pending.begin(), pending.end());
   }
   return refined;
+}
+
+// The receiver oracle for receiver p with its active links (their point transfers cached).
+bool RadiositySolver::receiverNeedsSplit(int p, const std::vector<int>& links) {
+  const Element& receiver = elements_[p];
+  std::array<Vec3, 16> points{};
+  std::array<bool, 16> covered{};
+  bool located = false;
+  std::array<double, 16> sum{};
+  for (int index : links) {
+    PointTransfers& cached = pointTransfers_[index];
+    if ((!cached.valid || cached.unoccluded) && !located) {
+      points = receiver.grandchildCentres();
+      for (int k = 0; k < 16; ++k) covered[k] = isCovered(receiver.polygon, points[k]);
+      located = true;
+    }
+    const std::vector<float>& exact = links_[index].pointVisibleTransfers;
+    if (cached.valid && cached.unoccluded) {
+      // The quadrature's point form factors, as pointTransfer would compute them.
+      for (int k = 0; k < 16; ++k)
+        cached.values[k] = exact.size() == 16 ? exact[k]
+                           : covered[k]
+                               ? 0.f
+                               : float(double(cached.values[k]) * double(links_[index].visibility));
+      cached.unoccluded = false;
+    }
+    if (!cached.valid) {
+      for (int k = 0; k < 16; ++k)
+        cached.values[k] =
+            exact.size() == 16
+                ? exact[k]
+                : float(pointTransfer(links_[index], points[k], receiver.normal, covered[k]));
+      cached.valid = true;
+    }
+    const double b = sourceValue(links_[index], &NodeRadiometry::radiosity).maxComponent();
+    for (int k = 0; k < 16; ++k) sum[k] += cached.values[k] * b;
+  }
+  const auto [lowest, highest] = std::minmax_element(sum.begin(), sum.end());
+  return (*highest - *lowest) * receiver.area > options_.tolerance * totalPower_;
 }
 
 bool RadiositySolver::exceedsTolerance(NodeRef n, double irradianceError) const {
@@ -219,9 +267,10 @@ bool RadiositySolver::exceedsTolerance(NodeRef n, double irradianceError) const 
 
 bool RadiositySolver::refineActiveLinks() {
   const size_t before = links_.size();
-  const size_t count = links_.size();
-  for (size_t i = 0; i < count; ++i)
-    if (links_[i].active) refineLink(int(i));
+  std::vector<int> active;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (links_[i].active) active.push_back(int(i));
+  refineInWaves(std::move(active));
   return links_.size() != before;
 }
 
