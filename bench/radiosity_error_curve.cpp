@@ -140,7 +140,7 @@ void run(const std::string& path, const Options& o) {
     // The total's error, and the parts of it that its direct and indirect terms make (each
     // against the total, so the three are comparable).
     std::vector<double> errors, directErrors, indirectErrors;
-    double signedIndirect = 0;
+    std::vector<double> signedIndirect;
     for (const OpenPoint& p : points) {
       const std::optional<RadiositySample> sample = solver.sample(p.point.p, p.point.n);
       const double direct = sample ? sample->direct.average() : 0;
@@ -148,7 +148,7 @@ void run(const std::string& path, const Options& o) {
       errors.push_back(std::abs(direct + indirect - p.reference) / p.reference);
       directErrors.push_back(std::abs(direct - p.direct) / p.reference);
       indirectErrors.push_back(std::abs(indirect - (p.reference - p.direct)) / p.reference);
-      signedIndirect += (indirect - (p.reference - p.direct)) / p.reference / double(points.size());
+      signedIndirect.push_back((indirect - (p.reference - p.direct)) / p.reference);
     }
     const RadiosityStats& s = solver.stats();
     std::printf("%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %8.2f%% %8.2f%% %9.3f %9.3f %9.3f\n",
@@ -156,7 +156,8 @@ void run(const std::string& path, const Options& o) {
                 100 * percentile(errors, 0.5), 100 * percentile(errors, 0.95),
                 100 * percentile(directErrors, 0.5), 100 * percentile(indirectErrors, 0.5),
                 s.refineSeconds, s.solveSeconds, s.finalGatherSeconds);
-    std::printf("# mean signed indirect error %.2f%%\n", 100 * signedIndirect);
+    std::printf("# median signed indirect error %.2f%% of the total\n",
+                100 * percentile(signedIndirect, 0.5));
     std::fflush(stdout);
   }
 }

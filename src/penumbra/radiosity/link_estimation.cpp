@@ -314,7 +314,7 @@ double sourceSideSpread(const Element& source, const Element& receiver) {
 }  // namespace
 
 void RadiositySolver::estimate(Link& link, EstimateCounters& counters, PointTransfers* pointValues,
-                               const Shaft* shaft) const {
+                               std::optional<Shaft>* shaft) const {
   SplitMix rng(linkSeed(options_.seed, link.receiver, link.source));
   const NodeRef r = link.receiver, s = link.source;
   if (!r.isCluster() && !s.isCluster()) {
@@ -349,8 +349,12 @@ void RadiositySolver::estimate(Link& link, EstimateCounters& counters, PointTran
     // Nothing in the link's shaft and no polygon in contact with either end: every ray would
     // pass, so the link is wholly visible, exactly and without casting them.
     if (!options_.elementSourceShares && contacts_[re.polygon].empty() &&
-        contacts_[se.polygon].empty() &&
-        (shaft ? shaftOccluders(*shaft, re.polygon, se.polygon) : shaftOccluders(re, se)).empty()) {
+        contacts_[se.polygon].empty() && [&] {
+          std::optional<Shaft> built;
+          std::optional<Shaft>& used = shaft ? *shaft : built;
+          if (!used) used.emplace(loopOf(re), loopOf(se));
+          return shaftOccluders(*used, re.polygon, se.polygon).empty();
+        }()) {
       link.visibility = 1;
       ++counters.unoccludedByShaft;
       return;

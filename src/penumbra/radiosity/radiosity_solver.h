@@ -195,7 +195,7 @@ class RadiositySolver {
   void buildElements();
   int buildCluster(int begin, int end, int depth);
   // Appends a link (with its shaft when shafts are stored) and returns its index.
-  int addLink(const Link& link, const Shaft& shaft);
+  int addLink(const Link& link, const std::optional<Shaft>& shaft);
   // The receiver oracle's point values of a link (see pointTransfers_).
   struct PointTransfers {
     std::array<float, 16> values{};
@@ -211,10 +211,11 @@ class RadiositySolver {
     long long exactVisibilityPoints = 0;
   };
   // Estimates the link; `pointValues`, when given, receives the unoccluded form factors at the
-  // receiver's 16 grandchild centres when the quadrature computed them; `shaft`, when given, is
-  // the link's shaft (it culls the occluder candidates). Thread-safe: reads the hierarchy only.
+  // receiver's 16 grandchild centres when the quadrature computed them; `shaft`, when given,
+  // receives the link's shaft if the estimate built it (to cull occluder candidates).
+  // Thread-safe: reads the hierarchy only.
   void estimate(Link& link, EstimateCounters& counters, PointTransfers* pointValues = nullptr,
-                const Shaft* shaft = nullptr) const;
+                std::optional<Shaft>* shaft = nullptr) const;
   // The shaft between a link's ends: polygon-to-polygon between elements, box-to-box otherwise.
   Shaft linkShaft(NodeRef receiver, NodeRef source) const;
   // Exact visibility of the source element from the receiver element's 16 grandchild centres

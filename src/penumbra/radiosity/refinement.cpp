@@ -21,11 +21,11 @@ Shaft RadiositySolver::linkShaft(NodeRef receiver, NodeRef source) const {
                Polygon3(s.vertices.begin(), s.vertices.begin() + s.vertexCount));
 }
 
-int RadiositySolver::addLink(const Link& link, const Shaft& shaft) {
+int RadiositySolver::addLink(const Link& link, const std::optional<Shaft>& shaft) {
   links_.push_back(link);
   if (options_.storeShafts) {
     links_.back().shaft = int(shafts_.size());
-    shafts_.push_back(shaft);
+    shafts_.push_back(shaft ? *shaft : linkShaft(link.receiver, link.source));
   }
   return int(links_.size()) - 1;
 }
@@ -92,9 +92,14 @@ std::vector<int> RadiositySolver::replaceLinks(
     int parent = 0;
     bool mustRefine = false;
     Link link;
-    Shaft shaft;
+    std::optional<Shaft> shaft;  // built when the estimate or storage needs it
     PointTransfers pointValues;
     EstimateCounters counters;
+  };
+  // Two elements that exchange nothing get no link.
+  const auto isDiscarded = [](const Candidate& c) {
+    return !c.mustRefine && !c.link.receiver.isCluster() && !c.link.source.isCluster() &&
+           c.link.unoccludedTransfer <= 0;
   };
   std::vector<Candidate> candidates;
   for (const auto& [index, pairs] : replacements)
@@ -118,8 +123,9 @@ std::vector<int> RadiositySolver::replaceLinks(
     }
   parallelFor((long long)candidates.size(), options_.threads, [&](long long i) {
     Candidate& c = candidates[i];
-    c.shaft = linkShaft(c.link.receiver, c.link.source);
     if (!c.mustRefine) estimate(c.link, c.counters, &c.pointValues, &c.shaft);
+    if (options_.storeShafts && !c.shaft && !isDiscarded(c))
+      c.shaft = linkShaft(c.link.receiver, c.link.source);
   });
   std::vector<int> added;
   size_t next = 0;
@@ -130,8 +136,7 @@ std::vector<int> RadiositySolver::replaceLinks(
       stats_.visibilityRays += c.counters.visibilityRays;
       stats_.unoccludedByShaft += c.counters.unoccludedByShaft;
       stats_.exactVisibilityPoints += c.counters.exactVisibilityPoints;
-      const bool bothElements = !c.link.receiver.isCluster() && !c.link.source.isCluster();
-      if (!c.mustRefine && bothElements && c.link.unoccludedTransfer <= 0) continue;
+      if (isDiscarded(c)) continue;
       const int child = addLink(c.link, c.shaft);
       if (c.pointValues.valid) {
         if (pointTransfers_.size() < links_.size()) pointTransfers_.resize(links_.size());
