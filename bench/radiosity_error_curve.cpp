@@ -1,10 +1,13 @@
 // Radiosity's error curve: for a range of tolerances, the solve time, elements, links and the
 // median and 95th percentile of the relative error of the total irradiance at open receiver
-// points, against an independent path tracer (lighting/path_traced_reference.h: exact direct
-// light by polygon clipping, indirect by cosine-distributed paths).
+// points (of the combined solution with --combined: exact direct light from the discontinuity
+// mesh, radiosity's indirect light), against an independent path tracer
+// (lighting/path_traced_reference.h: exact direct light by polygon clipping, indirect by
+// cosine-distributed paths).
 //
 // Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
-//                              [--no-final-gather] [--visibility-rays N] [--gather-rays N]
+//                              [--no-final-gather] [--combined] [--visibility-rays N]
+//                              [--gather-rays N]
 //                              [scene.json ...]
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 4096 paths per point).
 //
@@ -29,9 +32,11 @@
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/path_traced_reference.h"
+#include "penumbra/radiosity/combined_solution.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/receiver_sampling.h"
 #include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -44,6 +49,7 @@ struct Options {
   int paths = 4096;
   int threads = 1;
   bool finalGather = true;
+  bool combined = false;   // CombinedSolution: exact direct (DM) + radiosity's indirect
   int visibilityRays = 0;  // 0: the solver's default
   int gatherRays = 0;
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
@@ -132,17 +138,31 @@ void run(const std::string& path, const Options& o) {
     options.threads = o.threads;
     if (o.visibilityRays > 0) options.visibilityRays = o.visibilityRays;
     if (o.gatherRays > 0) options.finalGatherRays = o.gatherRays;
-    RadiositySolver solver(options);
+    // Radiosity alone, or the combined solution (its direct part from the discontinuity mesh);
+    // both on one live scene built outside the timing, as the CLI shares it between engines.
+    const DynamicScene live(posed);
+    RadiositySolver alone(options);
+    CombinedSolution combined(options);
     const auto start = std::chrono::steady_clock::now();
-    solver.build(posed);
+    if (o.combined)
+      combined.build(live);
+    else
+      alone.build(live);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const RadiositySolver& solver = o.combined ? combined.indirect() : alone;
+    const auto sampleAt = [&](const ReceiverPoint& p) -> std::optional<RadiositySample> {
+      if (!o.combined) return solver.sample(p.p, p.n);
+      const std::optional<CombinedSample> c = combined.sample(p.p, p.n);
+      if (!c) return std::nullopt;
+      return RadiositySample{c->direct, c->indirect, {}};
+    };
     // The total's error, and the parts of it that its direct and indirect terms make (each
     // against the total, so the three are comparable).
     std::vector<double> errors, directErrors, indirectErrors;
     std::vector<double> signedIndirect;
     for (const OpenPoint& p : points) {
-      const std::optional<RadiositySample> sample = solver.sample(p.point.p, p.point.n);
+      const std::optional<RadiositySample> sample = sampleAt(p.point);
       const double direct = sample ? sample->direct.average() : 0;
       const double indirect = sample ? sample->indirect.average() : 0;
       errors.push_back(std::abs(direct + indirect - p.reference) / p.reference);
@@ -193,6 +213,8 @@ int main(int argc, char** argv) {
       o.tolerances = parseList(next());
     else if (arg == "--no-final-gather")
       o.finalGather = false;
+    else if (arg == "--combined")
+      o.combined = true;
     else if (arg == "--visibility-rays")
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")

@@ -513,6 +513,36 @@ TEST(Cli, RenderDmWritesAPng) {
   EXPECT_EQ(runPenumbra("render " + scene + " --method raytrace --edges -o " + out).exitCode, 1);
 }
 
+// `render --method combined` (exact direct light on the discontinuity mesh, radiosity's indirect
+// light added at its corners) writes a PNG; `probe --method combined` gives at least the exact
+// direct irradiance (the reference's) and adds light reflected by the room.
+TEST(Cli, CombinedRendersAndProbes) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const std::string out = dir.path("combined.png");
+  const RunResult render =
+      runPenumbra("render " + scene + " --method combined --tolerance 1e-2 --size 48x48 -o " + out);
+  ASSERT_EQ(render.exitCode, 0) << render.output;
+  std::ifstream png(out, std::ios::binary);
+  char signature[4] = {};
+  png.read(signature, 4);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  // The floor in the open and the ceiling (no direct light: the lamp faces down).
+  const std::string points = dir.write("p.txt", "0.1 0 0.45 0 1 0\n0.2 0.5488 0.4 0 -1 0\n");
+  const RunResult combined =
+      runPenumbra("probe " + scene + " --points " + points + " --method combined --tolerance 1e-2");
+  const RunResult direct = runPenumbra("probe " + scene + " --points " + points);
+  ASSERT_EQ(combined.exitCode, 0) << combined.output;
+  ASSERT_EQ(direct.exitCode, 0) << direct.output;
+  const std::vector<double> total = redColumn(combined.output), exact = redColumn(direct.output);
+  ASSERT_EQ(total.size(), 2u);
+  ASSERT_EQ(exact.size(), 2u);
+  EXPECT_GT(total[0], exact[0] * 1.1);  // reflected light adds at least a tenth on the floor
+  EXPECT_EQ(exact[1], 0);
+  EXPECT_GT(total[1], 0.05);  // the ceiling is lit by the room only
+}
+
 // `radiosity --report`: per-frame statistics with memory per structure (elements, active and
 // passive links, shafts) and the shafts by kind.
 TEST(Cli, RadiosityReportAccountsMemoryPerStructure) {

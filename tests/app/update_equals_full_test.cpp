@@ -55,7 +55,8 @@ std::string probePoints(const Scene& scene, int frame) {
 
 std::string probe(const std::string& scene, const std::string& points, const char* method,
                   int frame, bool full) {
-  const std::string extra = std::string(method) == "radiosity"    ? " --tolerance 1e-2"
+  const bool radiosity = std::string(method) == "radiosity" || std::string(method) == "combined";
+  const std::string extra = radiosity                             ? " --tolerance 1e-2"
                             : std::string(method) == "montecarlo" ? " --samples 16 --batches 2"
                                                                   : "";
   const test::RunResult r =
@@ -90,9 +91,10 @@ TEST_P(UpdateEqualsFull, ProbeAfterWalkingEveryFrameEqualsBuildingTheLastOne) {
 INSTANTIATE_TEST_SUITE_P(
     BundledMotion, UpdateEqualsFull,
     testing::Values(Case{"cornell-box/cornell-box.json",
-                         {"reference", "dm", "radiosity", "montecarlo"}},
+                         {"reference", "dm", "radiosity", "combined", "montecarlo"}},
                     Case{"cornell-box/cornell-mirror.json", {"reference", "dm"}},
-                    Case{"gltf/animated-box.gltf", {"reference", "dm", "radiosity", "montecarlo"}},
+                    Case{"gltf/animated-box.gltf",
+                         {"reference", "dm", "radiosity", "combined", "montecarlo"}},
                     Case{"office-desk/desk-145.json", {"reference", "dm", "montecarlo"}},
                     Case{"office-desk/desk-145-close.json", {"reference", "dm"}},
                     Case{"office-desk/desk-307.json", {"reference", "dm"}},

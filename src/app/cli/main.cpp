@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   probeCommand->add_option("--points", probe.points, "Points file: x y z nx ny nz per line")
       ->required();
   probeCommand->add_option("--frame", probe.frame, "Frame of the scene's motion");
-  probeCommand->add_option("--method", probe.method, "reference | montecarlo | dm | radiosity");
+  probeCommand->add_option("--method", probe.method,
+                           "reference | montecarlo | dm | radiosity | combined");
   probeCommand->add_flag("--full", probe.full, "Recompute the frame from scratch (no update)");
   probeCommand->add_option("--report", probe.report,
                            "Write JSON: points, seconds, and for dm how each was answered "
@@ -68,7 +69,8 @@ int main(int argc, char** argv) {
   CLI::App* renderCommand = app.add_subcommand("render", "Render an image of a frame");
   renderCommand->add_option("scene", render.scene, "Scene file")->required();
   renderCommand->add_option("--frame", render.frame, "Frame of the scene's motion");
-  renderCommand->add_option("--method", render.method, "raytrace | dm | radiosity | volumes")
+  renderCommand
+      ->add_option("--method", render.method, "raytrace | dm | radiosity | combined | volumes")
       ->required();
   renderCommand->add_option("-o,--output", render.output, "Output PNG")->required();
   renderCommand->add_option("--size", render.size, "WxH (default: the scene camera's)");

@@ -13,6 +13,7 @@
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
+#include "penumbra/radiosity/combined_solution.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/receiver_locator.h"
@@ -53,10 +54,10 @@ void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResu
 
 int runProbe(const ProbeOptions& options, const CommonOptions& common) {
   if (options.method != "reference" && options.method != "montecarlo" &&
-      options.method != "radiosity" && options.method != "dm")
+      options.method != "radiosity" && options.method != "dm" && options.method != "combined")
     throw UsageError("--method " + options.method +
                      " is not available in this build (available: reference, dm, montecarlo, "
-                     "radiosity)");
+                     "radiosity, combined)");
   const Scene scene = loadScene(options.scene);
   checkFrame(options.frame, scene.frames);
   const std::vector<ProbePoint> points = readPointsFile(options.points);
@@ -119,6 +120,20 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                 [&](const SceneChange& change) { solver.update(live, change); });
     for (size_t i = 0; i < points.size(); ++i) {
       const auto sample = solver.sample(points[i].position, points[i].normal);
+      if (!sample) throw lieOnNoReceiver(points[i]);
+      results[i].value = sample->total();
+    }
+  } else if (options.method == "combined") {
+    // Total irradiance: exact direct from the discontinuity mesh, radiosity's indirect (lit by
+    // that exact direct light) interpolated on its leaves.
+    RadiosityOptions radiosityOptions = options.radiosity;
+    radiosityOptions.threads = common.threads;  // the result does not depend on it
+    CombinedSolution solution(radiosityOptions);
+    solution.build(live);
+    walkToFrame(live, options.frame,
+                [&](const SceneChange& change) { solution.update(live, change); });
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto sample = solution.sample(points[i].position, points[i].normal);
       if (!sample) throw lieOnNoReceiver(points[i]);
       results[i].value = sample->total();
     }

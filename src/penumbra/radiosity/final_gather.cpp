@@ -40,6 +40,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "penumbra/base/parallel_for.h"
@@ -62,7 +63,22 @@ struct RadiositySolver::LeafGather {
   int coveredPoints = 0;
   // Counted per leaf (leaves are gathered in parallel), summed into the statistics after.
   long long rays = 0, misses = 0, clippedPoints = 0;
+  // With RadiosityOptions::exactDirect: the direct irradiance, the mean of that function over the
+  // exposed points (nothing when it answered nothing at one of them).
+  std::optional<Rgb> exactDirect;
 };
+
+// The leaf's 16 grandchild centres, nudged by a ten-thousandth of the leaf along two
+// incommensurate directions: subdivision puts centres on round coordinates, where modelled
+// features often lie (a door's edge on a sideboard), and a centre on the edge of a polygon in
+// contact is neither covered nor free.
+std::array<Vec3, 16> RadiositySolver::gatherPoints(const Element& leaf) {
+  const Vec3 nudge = (leaf.vertices[1] - leaf.vertices[0]) * 1.2345e-4 +
+                     (leaf.vertices[leaf.vertexCount - 1] - leaf.vertices[0]) * 0.9876e-4;
+  std::array<Vec3, 16> points = leaf.grandchildCentres();
+  for (Vec3& x : points) x += nudge;
+  return points;
+}
 
 int RadiositySolver::leafAt(PolygonId polygon, const Vec3& y) const {
   int best = -1;
@@ -105,6 +121,25 @@ void RadiositySolver::finalGather() {
     }
   const double brightRadiosity = options_.exactGatherContrast * radiositySum / areaSum;
   std::vector<LeafGather> gathered(elements_.size());
+  // The exact direct irradiance at the leaves' exposed points, on this thread: the function may
+  // not be thread-safe (the discontinuity mesh's exact arrangements cache lazily).
+  if (options_.exactDirect)
+    for (size_t id = 0; id < elements_.size(); ++id) {
+      const Element& leaf = elements_[id];
+      if (!leaf.isLeaf()) continue;
+      Rgb sum;
+      int count = 0;
+      bool answered = true;
+      for (const Vec3& x : gatherPoints(leaf)) {
+        if (isCovered(leaf.polygon, x)) continue;
+        const std::optional<Rgb> e = options_.exactDirect(x, leaf.normal, leaf.polygon);
+        answered = answered && e.has_value();
+        if (!answered) break;
+        sum += *e;
+        ++count;
+      }
+      if (answered && count > 0) gathered[id].exactDirect = sum / double(count);
+    }
   // Each leaf reads the hierarchy and writes only its own LeafGather, with a random stream of its
   // own: the result is the same for any number of threads.
   parallelFor((long long)elements_.size(), options_.threads, [&](long long id) {
@@ -153,18 +188,13 @@ void RadiositySolver::finalGather() {
     // Each of the leaf's 16 grandchild cells gathers the mean over the cell of what arrives, so
     // that the receivers integrate what a source sends as the links' quadrature does: the point
     // form factor to a source sharing an edge with the receiver (a wall's elements seen from
-    // the floor along it) peaks at that edge, between the cells' centres. The cell's centre,
-    // nudged by a ten-thousandth of the leaf along two incommensurate directions, says whether
-    // the cell is covered by a polygon in contact: subdivision puts centres on round
-    // coordinates, where modelled features often lie (a door's edge on a sideboard), and a
-    // centre on the edge of a polygon in contact is neither covered nor free.
-    const Vec3 nudge = (leaf.vertices[1] - leaf.vertices[0]) * 1.2345e-4 +
-                       (leaf.vertices[leaf.vertexCount - 1] - leaf.vertices[0]) * 0.9876e-4;
+    // the floor along it) peaks at that edge, between the cells' centres. The cell's (nudged)
+    // centre says whether the cell is covered by a polygon in contact (gatherPoints).
+    const std::array<Vec3, 16> points = gatherPoints(leaf);
     const std::array<std::array<Vec3, 4>, 16> cells = leaf.grandchildCells();
-    const std::array<Vec3, 16> centres = leaf.grandchildCentres();
     const double cellSize = std::sqrt(leaf.area / 16);
     for (int k = 0; k < 16; ++k) {
-      const Vec3 x = centres[k] + nudge;
+      const Vec3& x = points[k];
       if (isCovered(leaf.polygon, x)) {
         // x sees only the polygon covering it.
         ++leafGather.coveredPoints;
@@ -195,8 +225,8 @@ void RadiositySolver::finalGather() {
         exactSum += visible;
       }
       const double remainder = 1 - exactSum;
-      if (rayElements.empty() || !(remainder > 0)) continue;
-      splitRemainder(leaf, cells[k], x, remainder, rayElements, exactSources, rng, leafGather);
+      if (!rayElements.empty() && remainder > 0)
+        splitRemainder(leaf, cells[k], x, remainder, rayElements, exactSources, rng, leafGather);
     }
     // One entry per element, weights per point of its kind (the mean over those points).
     const auto merge = [](std::vector<GatherEntry>& list, int points) {
@@ -341,7 +371,8 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
   std::vector<Rgb> exposedDirect(count), coveredDirect(count);
   for (size_t id = 0; id < count; ++id)
     if (elements_[id].isLeaf()) {
-      exposedDirect[id] = sum(gathered[id].exposed, emission);
+      const LeafGather& g = gathered[id];
+      exposedDirect[id] = g.exactDirect ? *g.exactDirect : sum(g.exposed, emission);
       coveredDirect[id] = sum(gathered[id].covered, emission);
     }
   std::vector<Rgb> exposedIndirect(count), coveredIndirect(count);

@@ -12,6 +12,7 @@
 // Units: B, M in W/m²; irradiance in W/m²; B = M + ρ (E_direct + E_indirect) (DESIGN.md §5).
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -92,6 +93,13 @@ struct RadiosityOptions {
   int finalGatherRays = 32;
   double exactGatherContrast = 4;
   std::uint64_t seed = 1;
+  // When set, the final solution takes each leaf's direct irradiance from this function (the
+  // mean over the leaf's exposed grandchild-cell centres) instead of gathering the emitters over
+  // its links, so that the light reflected into the indirect part starts from an exact first
+  // bounce (CombinedSolution passes the discontinuity mesh's exact irradiance). Nothing at any
+  // point of a leaf: that leaf keeps its gathered direct part. Called from one thread.
+  std::function<std::optional<Rgb>(const Vec3& point, const Vec3& normal, PolygonId polygon)>
+      exactDirect;
   // Worker threads for link estimation, the receiver oracle and the final gather (0: all
   // cores); the result does not depend on it.
   int threads = 1;
@@ -273,6 +281,8 @@ class RadiositySolver {
   // Re-gathers every leaf's irradiance at its own points and solves the leaves' radiosities
   // again with it (NodeRadiometry::finalDirect/Indirect, radiosity, reflected).
   void finalGather();
+  // The points where the final gather evaluates a leaf (see final_gather.cpp).
+  static std::array<Vec3, 16> gatherPoints(const Element& leaf);
   void splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell, const Vec3& x,
                       double remainder, const std::vector<int>& rayElements,
                       const std::vector<int>& exactSources, SplitMix& rng,
