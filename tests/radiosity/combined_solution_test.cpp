@@ -65,9 +65,10 @@ TEST(CombinedSolution, DirectPartIsTheExactReference) {
 
 // Against the independent path tracer at open receiver points (those whose irradiance is above
 // 1e-3 of the mean): the combined solution's total irradiance is closer than radiosity's alone,
-// its direct part exact and its indirect part lit by the exact first bounce. Measured with
-// bench/radiosity_error_curve on 149 points and 262,144 paths each: median 1.74% at 1e-3
-// (radiosity alone 3.44%).
+// its direct part exact and its indirect part lit by the exact first bounce. Measured here
+// (session 9): 59 points, median 1.80% against 2.97% for radiosity alone, the reference's
+// standard error 0.75%; bench/radiosity_error_curve on 149 points and 262,144 paths each: 1.83%
+// against 3.44% at 1e-3.
 TEST(CombinedSolution, CloserToPathTracingThanRadiosityAlone) {
   const PosedScene posed = cornellBox();
   const DynamicScene live(posed);
@@ -76,17 +77,17 @@ TEST(CombinedSolution, CloserToPathTracingThanRadiosityAlone) {
   RadiositySolver alone(withTolerance(1e-3));
   alone.build(live);
 
-  const UniformGrid grid(posed);
-  const ExactReference exact(posed, &grid);
+  // Sampled direct light: the path tracer's visibility is its own (shadow rays), not the exact
+  // reference's clipping that the discontinuity mesh is checked against.
   const RayCaster rays(posed);
-  const PathTracedReference tracer(posed, rays, exact);
+  const PathTracedReference tracer(posed, rays);
   const std::vector<ReceiverPoint> points = sampleReceiverPoints(posed, 64, 11);
   std::vector<double> reference(points.size()), noise(points.size());
   parallelFor((long long)points.size(), 0, [&](long long i) {
     const PathTracedEstimate e =
         tracer.irradiance(points[i].p, points[i].n, points[i].receiver, 32768, 500 + i);
-    reference[i] = (e.direct + e.indirect).average();
-    noise[i] = e.indirectStandardError.average();
+    reference[i] = e.total().average();
+    noise[i] = e.totalStandardError.average();
   });
   double mean = 0;
   for (double r : reference) mean += r / double(reference.size());

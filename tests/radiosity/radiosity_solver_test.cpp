@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numbers>
 
 #include "penumbra/base/input_error.h"
@@ -424,79 +426,153 @@ TEST(RadiositySolver, DirectPartConvergesToExactReference) {
 // 16 values over sqrt(16): it holds the paths' noise and how the irradiance varies over the leaf
 // (a leaf half over the lamp, whose back hides the room from the ceiling, varies 30-fold; the
 // paths' noise alone made such a leaf look 7.8 standard errors off).
-TEST(RadiositySolver, IndirectAgreesWithPathTracing) {
-  const PosedScene posed = poseAt(loadScene(scenePath("cornell-box/cornell-box.json")), 0);
-  RadiositySolver solver(withTolerance(1e-3));
-  solver.build(posed);
-  const UniformGrid grid(posed);
-  const ExactReference exact(posed, &grid);
+// Leaf by leaf (every stride-th), a part of the final solution's irradiance (`ours`) against the
+// independent path tracer's mean over one point in each of the leaf's 16 grandchild cells; z is
+// the difference over the reference's standard error (the spread of the 16 values).
+struct LeafComparison {
+  int leaves = 0, darkLeaves = 0, contactLeaves = 0;
+  double meanZ = 0, rmsZ = 0, largestZ = 0, meanError = 0, noise = 0;
+};
+// Is x, a point of polygon p, covered by another polygon lying in p's plane and facing it?
+bool isUnderAPolygonInContact(const PosedScene& posed, PolygonId p, const Vec3& x) {
+  const WorldPolygon& receiver = posed.polygons[p];
+  for (const WorldPolygon& q : posed.polygons) {
+    if (dot(q.plane.normal, receiver.plane.normal) > -1 + 1e-9) continue;
+    if (std::abs(q.plane.signedDistance(x)) > 1e-9) continue;
+    bool inside = true;
+    for (size_t i = 0; i < q.vertices.size() && inside; ++i) {
+      const Vec3& a = q.vertices[i];
+      const Vec3& b = q.vertices[(i + 1) % q.vertices.size()];
+      inside = dot(cross(b - a, x - a), q.plane.normal) >= 0;
+    }
+    if (inside) return true;
+  }
+  return false;
+}
+
+LeafComparison compareLeavesWithPathTracing(
+    const PosedScene& posed, const RadiositySolver& solver, size_t stride, int paths,
+    const std::function<double(const NodeRadiometry&)>& ours,
+    const std::function<double(const PathTracedEstimate&)>& theirs) {
+  // Sampled direct light: visibility by the ray caster's shadow rays, none of the exact
+  // reference's clipping that the solver's gather uses for partly hidden lamps.
   const RayCaster rays(posed);
-  const PathTracedReference reference(posed, rays, exact);
+  const PathTracedReference reference(posed, rays);
   std::uint64_t seed = 1;
-  double errorSum = 0, referenceSum = 0, sumZ = 0, sumZ2 = 0, largestZ = 0;
-  double hierarchicalSumZ2 = 0, hierarchicalErrorSum = 0;
-  int leaves = 0, coveredLeaves = 0;
-  double noiseSum = 0;
+  double errorSum = 0, referenceSum = 0, sumZ = 0, sumZ2 = 0, noiseSum = 0;
   double largestRadiosity = 0;
   for (const Element& e : solver.elements())
     largestRadiosity = std::max(largestRadiosity, e.radiometry.radiosity.maxComponent());
-  for (size_t i = 0; i < solver.elements().size(); i += 25) {
+  LeafComparison result;
+  bool everyPolygonEmits = true;
+  for (const WorldPolygon& p : posed.polygons) everyPolygonEmits = everyPolygonEmits && p.isLight;
+  for (size_t i = 0; i < solver.elements().size(); i += stride) {
     const Element& e = solver.elements()[i];
-    if (!e.isLeaf() || posed.polygons[e.polygon].isLight) continue;
+    // A lamp's own leaves are left out (a lamp 1 mm below the ceiling, whose paths start
+    // between the two); where every polygon emits, none is a lamp of that kind.
+    if (!e.isLeaf() || (posed.polygons[e.polygon].isLight && !everyPolygonEmits)) continue;
     const auto cells = e.grandchildCells();
-    std::array<double, 16> values{};
-    double mean = 0;
+    std::array<Vec3, 16> points{};
+    bool covered = false;
     for (int k = 0; k < 16; ++k) {
       Element cell;
       cell.vertices = cells[k];
       cell.vertexCount = e.vertexCount;
-      const Vec3 x =
+      points[k] =
           cell.samplePoint(0.5 + 0.45 * std::sin(seed * 1.7), 0.5 + 0.45 * std::cos(seed * 2.3));
-      const PathTracedEstimate pt = reference.irradiance(x, e.normal, e.polygon, 96, seed++);
-      values[k] = pt.indirect.average();
+      ++seed;
+      covered = covered || isUnderAPolygonInContact(posed, e.polygon, points[k]);
+    }
+    // Under a polygon in face-to-face contact (a block's foot on the floor) the sampled path
+    // tracer sees the coplanar polygon edge-on and gives 0 where the limit as the gap closes,
+    // which the solver models, does not: such leaves say nothing here.
+    if (covered) {
+      ++result.contactLeaves;
+      continue;
+    }
+    std::array<double, 16> values{};
+    double mean = 0;
+    for (int k = 0; k < 16; ++k) {
+      values[k] = theirs(reference.irradiance(points[k], e.normal, e.polygon, paths, seed + k));
       mean += values[k] / 16;
     }
     double variance = 0;
     for (double v : values) variance += (v - mean) * (v - mean) / (15.0 * 16.0);
-    const double ours = e.radiometry.finalIndirect.average();
+    const double value = ours(e.radiometry);
     if (variance == 0) {
       // Every path from the leaf's points met nothing lit: a leaf wholly under a block, which
       // sees only the block's dark bottom. Ours is then what the leaves' Jacobi iteration leaves
       // of its starting values: it stops when no radiosity changes by more than convergence x
       // the largest, so what remains is below that x ρ / (1 − ρ) (ρ <= 0.8 here).
       EXPECT_EQ(mean, 0);
-      EXPECT_LT(ours, 4 * solver.options().convergence * largestRadiosity) << "leaf " << i;
-      ++coveredLeaves;
+      EXPECT_LT(value, 4 * solver.options().convergence * largestRadiosity) << "leaf " << i;
+      ++result.darkLeaves;
       continue;
     }
-    const double z = (ours - mean) / std::sqrt(variance);
-    const double hierarchical = e.radiometry.irradianceIndirect.average();
-    hierarchicalSumZ2 += (hierarchical - mean) * (hierarchical - mean) / variance;
-    hierarchicalErrorSum += std::abs(hierarchical - mean) * e.area;
-    errorSum += std::abs(ours - mean) * e.area;
+    const double z = (value - mean) / std::sqrt(variance);
+    errorSum += std::abs(value - mean) * e.area;
     noiseSum += std::sqrt(variance) * e.area;
     referenceSum += mean * e.area;
     sumZ += z;
     sumZ2 += z * z;
-    largestZ = std::max(largestZ, std::abs(z));
-    ++leaves;
+    result.largestZ = std::max(result.largestZ, std::abs(z));
+    ++result.leaves;
   }
-  const double meanError = errorSum / referenceSum, meanZ = sumZ / leaves;
-  const double noise = noiseSum / referenceSum;  // the reference's standard error, area mean
-  const double rmsZ = std::sqrt(sumZ2 / leaves);
+  result.meanError = errorSum / referenceSum;
+  result.noise = noiseSum / referenceSum;  // the reference's standard error, area mean
+  result.meanZ = sumZ / result.leaves;
+  result.rmsZ = std::sqrt(sumZ2 / result.leaves);
   std::printf(
-      "%d leaves (and %d wholly covered): indirect mean |error| %.4f of the reference, z mean %.2f "
-      "rms %.2f largest %.2f; the reference's standard error %.4f (hierarchical solution: mean "
-      "|error| %.4f, z rms %.2f)\n",
-      leaves, coveredLeaves, meanError, meanZ, rmsZ, largestZ, noise,
-      hierarchicalErrorSum / referenceSum, std::sqrt(hierarchicalSumZ2 / leaves));
-  // Measured (session 9): 54 leaves, z mean 0.09, rms 1.39, largest 3.80; mean |error| 6.4% of
-  // the reference against its standard error of 6.0%: the differences are the reference's own
-  // noise (pure noise would give a mean |error| of 0.8 standard errors).
-  EXPECT_LT(std::abs(meanZ), 4 / std::sqrt(double(leaves)));
-  EXPECT_LT(rmsZ, 1.5);
-  EXPECT_LT(largestZ, 4.5);
-  EXPECT_LT(meanError, 1.5 * noise);
+      "%d leaves (and %d dark, %d under a contact): mean |error| %.4f of the reference, z mean "
+      "%.2f rms %.2f largest %.2f; the reference's standard error %.4f\n",
+      result.leaves, result.darkLeaves, result.contactLeaves, result.meanError, result.meanZ,
+      result.rmsZ, result.largestZ, result.noise);
+  return result;
+}
+
+// The final solution's indirect irradiance against an independent reference, path tracing
+// with sampled direct light and its own visibility, in the Cornell box under its lamp: the
+// furnace only shows that a point's transfers sum to 1, not that the light is split among the
+// sources as it should be.
+TEST(RadiositySolver, IndirectAgreesWithPathTracing) {
+  const PosedScene posed = poseAt(loadScene(scenePath("cornell-box/cornell-box.json")), 0);
+  RadiositySolver solver(withTolerance(1e-3));
+  solver.build(posed);
+  const LeafComparison c = compareLeavesWithPathTracing(
+      posed, solver, 25, 96, [](const NodeRadiometry& m) { return m.finalIndirect.average(); },
+      [](const PathTracedEstimate& e) { return e.indirect.average(); });
+  // Measured (session 9): 52 leaves (3 under a block's foot left out), z mean 0.05, rms 1.33,
+  // largest 2.83; mean |error| 5.4% of the reference against its standard error of 5.9%: the
+  // differences are the reference's own noise (pure noise: a mean |error| of 0.8 errors).
+  EXPECT_LT(std::abs(c.meanZ), 4 / std::sqrt(double(c.leaves)));
+  EXPECT_LT(c.rmsZ, 1.5);
+  EXPECT_LT(c.largestZ, 4.5);
+  EXPECT_LT(c.meanError, 1.5 * c.noise);
+}
+
+// A check the final solution's normalization cannot pass by construction (issue 21): an open
+// scene with mixed reflectances where every polygon emits, so the answer is no closed form and
+// light leaves through the opening. The Cornell box without its lamp and without the black room
+// in front of its opening; white, red and green reflectances as modelled, each polygon emitting
+// M = 1. The total irradiance per leaf against the independent path tracer.
+TEST(RadiositySolver, OpenMixedEmittersAgreeWithIndependentPathTracing) {
+  Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
+  std::erase_if(scene.objects,
+                [&](const SceneObject& o) { return o.name == "light" || o.name == "room-black"; });
+  for (Material& m : scene.materials) m.emission = Rgb::gray(1);
+  const PosedScene posed = poseAt(scene, 0);
+  RadiositySolver solver(withTolerance(1e-3));
+  solver.build(posed);
+  const LeafComparison c = compareLeavesWithPathTracing(
+      posed, solver, 10, 96,
+      [](const NodeRadiometry& m) { return (m.finalDirect + m.finalIndirect).average(); },
+      [](const PathTracedEstimate& e) { return e.total().average(); });
+  // Measured (session 9): 64 leaves (10 beside the blocks' feet left out), z mean 0.05, rms 1.19,
+  // largest 3.24; mean |error| 3.0% against the reference's standard error of 3.2%.
+  EXPECT_LT(std::abs(c.meanZ), 4 / std::sqrt(double(c.leaves)));
+  EXPECT_LT(c.rmsZ, 1.5);
+  EXPECT_LT(c.largestZ, 4.5);
+  EXPECT_LT(c.meanError, 1.5 * c.noise);
 }
 
 // Direct and indirect are separate sums: with nothing reflecting, the indirect part is exactly 0
