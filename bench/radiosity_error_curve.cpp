@@ -130,9 +130,9 @@ void run(const std::string& path, const Options& o) {
   for (const OpenPoint& p : points) relativeNoise.push_back(p.standardError / p.reference);
   std::printf("%s: %zu open points, reference standard error median %.2f%%\n", path.c_str(),
               points.size(), 100 * percentile(relativeNoise, 0.5));
-  std::printf("%10s %8s %9s %9s %10s %8s %8s %9s %9s %9s %9s %9s\n", "tolerance", "threads",
+  std::printf("%10s %8s %9s %9s %10s %8s %8s %9s %9s %9s %9s %9s %9s\n", "tolerance", "threads",
               "seconds", "elements", "links", "median", "p95", "direct", "indirect", "refine",
-              "solve", "gather");
+              "solve", "gather", "us/point");
   for (double tolerance : o.tolerances) {
     RadiosityOptions options;
     options.tolerance = tolerance;
@@ -163,8 +163,15 @@ void run(const std::string& path, const Options& o) {
     // against the total, so the three are comparable).
     std::vector<double> errors, directErrors, indirectErrors;
     std::vector<double> signedIndirect;
-    for (const OpenPoint& p : points) {
-      const std::optional<RadiositySample> sample = sampleAt(p.point);
+    const auto queryStart = std::chrono::steady_clock::now();
+    std::vector<std::optional<RadiositySample>> samples;
+    for (const OpenPoint& p : points) samples.push_back(sampleAt(p.point));
+    const double queryMicroseconds =
+        1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - queryStart).count() /
+        double(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      const OpenPoint& p = points[i];
+      const std::optional<RadiositySample>& sample = samples[i];
       const double direct = sample ? sample->direct.average() : 0;
       const double indirect = sample ? sample->indirect.average() : 0;
       errors.push_back(std::abs(direct + indirect - p.reference) / p.reference);
@@ -173,11 +180,12 @@ void run(const std::string& path, const Options& o) {
       signedIndirect.push_back((indirect - (p.reference - p.direct)) / p.reference);
     }
     const RadiosityStats& s = solver.stats();
-    std::printf("%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %8.2f%% %8.2f%% %9.3f %9.3f %9.3f\n",
-                tolerance, o.threads, seconds, s.elements, s.activeLinks,
-                100 * percentile(errors, 0.5), 100 * percentile(errors, 0.95),
-                100 * percentile(directErrors, 0.5), 100 * percentile(indirectErrors, 0.5),
-                s.refineSeconds, s.solveSeconds, s.finalGatherSeconds);
+    std::printf(
+        "%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %8.2f%% %8.2f%% %9.3f %9.3f %9.3f %9.1f\n",
+        tolerance, o.threads, seconds, s.elements, s.activeLinks, 100 * percentile(errors, 0.5),
+        100 * percentile(errors, 0.95), 100 * percentile(directErrors, 0.5),
+        100 * percentile(indirectErrors, 0.5), s.refineSeconds, s.solveSeconds,
+        s.finalGatherSeconds, queryMicroseconds);
     std::printf("# median signed indirect error %.2f%% of the total\n",
                 100 * percentile(signedIndirect, 0.5));
     std::fflush(stdout);

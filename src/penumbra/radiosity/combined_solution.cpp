@@ -1,5 +1,8 @@
 #include "penumbra/radiosity/combined_solution.h"
 
+#include <bit>
+#include <cstdint>
+
 #include "penumbra/spatial/dynamic_scene.h"
 
 namespace penumbra {
@@ -17,8 +20,9 @@ RadiosityOptions withExactDirect(RadiosityOptions options, const DiscontinuityMe
 
 }  // namespace
 
-CombinedSolution::CombinedSolution(const RadiosityOptions& radiosity, const DmOptions& dm)
-    : direct_(dm), indirect_(withExactDirect(radiosity, direct_)) {}
+CombinedSolution::CombinedSolution(const RadiosityOptions& radiosity, const DmOptions& dm,
+                                   int indirectRays)
+    : direct_(dm), indirect_(withExactDirect(radiosity, direct_)), indirectRays_(indirectRays) {}
 
 void CombinedSolution::build(const DynamicScene& scene) {
   direct_.build(scene);
@@ -33,8 +37,13 @@ void CombinedSolution::update(const DynamicScene& scene, const SceneChange& chan
 std::optional<CombinedSample> CombinedSolution::sample(const Vec3& p, const Vec3& n) const {
   const std::optional<Rgb> direct = direct_.irradiance(p, n);
   if (!direct) return std::nullopt;
-  const std::optional<RadiositySample> radiosity = indirect_.sample(p, n);
-  return CombinedSample{*direct, radiosity ? radiosity->indirect : Rgb{}};
+  // The seed from the point's coordinates: the same point gets the same answer, whatever the
+  // order or the thread it is asked in.
+  std::uint64_t seed = 0x9e3779b97f4a7c15ull;
+  for (double c : {p.x, p.y, p.z})
+    seed = (seed ^ std::bit_cast<std::uint64_t>(c)) * 0x100000001b3ull;
+  const std::optional<Rgb> indirect = indirect_.gatheredIndirect(p, n, indirectRays_, seed);
+  return CombinedSample{*direct, indirect ? *indirect : Rgb{}};
 }
 
 IrradianceMesh CombinedSolution::displayMesh(double maxEdgeLength) const {
@@ -43,7 +52,7 @@ IrradianceMesh CombinedSolution::displayMesh(double maxEdgeLength) const {
   for (size_t v = 0; v < mesh.positions.size(); ++v) {
     const Vec3& normal = posed.polygons[mesh.receiverOf[v]].plane.normal;
     if (const std::optional<RadiositySample> s = indirect_.sample(mesh.positions[v], normal))
-      mesh.irradiance[v] += s->indirect;
+      mesh.irradiance[v] += s->indirect;  // interpolated: a gather per corner costs too much
   }
   return mesh;
 }

@@ -97,17 +97,19 @@ int RadiositySolver::coveringLeaf(PolygonId polygon, const Vec3& x) const {
   return -1;
 }
 
-void RadiositySolver::finalGather() {
-  std::vector<std::vector<int>> elementLinks(elements_.size()), clusterLinks(clusters_.size());
+void RadiositySolver::indexGatherSources() {
+  GatherIndex& g = gatherIndex_;
+  g.elementLinks.assign(elements_.size(), {});
+  g.clusterLinks.assign(clusters_.size(), {});
   for (size_t i = 0; i < links_.size(); ++i)
     if (links_[i].active)
-      (links_[i].receiver.isCluster() ? clusterLinks : elementLinks)[links_[i].receiver.index]
+      (links_[i].receiver.isCluster() ? g.clusterLinks : g.elementLinks)[links_[i].receiver.index]
           .push_back(int(i));
-  std::vector<int> parentCluster(clusters_.size(), -1), rootCluster(elements_.size(), -1);
+  g.parentCluster.assign(clusters_.size(), -1);
+  g.rootCluster.assign(elements_.size(), -1);
   for (size_t c = 0; c < clusters_.size(); ++c)
     for (NodeRef child : clusters_[c].children)
-      (child.isCluster() ? parentCluster : rootCluster)[child.index] = int(c);
-
+      (child.isCluster() ? g.parentCluster : g.rootCluster)[child.index] = int(c);
   // Sources emitting more than exactGatherContrast x the mean radiosity of the scene's surfaces
   // (the lamps) are gathered exactly even where partly hidden. Emission, not radiosity: a
   // reflector's radiosity varies over it with its shadows, and gathered at its mean radiosity a
@@ -119,7 +121,49 @@ void RadiositySolver::finalGather() {
       areaSum += e.area;
       radiositySum += e.area * e.radiometry.maxRadiosity;
     }
-  const double brightRadiosity = options_.exactGatherContrast * radiositySum / areaSum;
+  g.brightRadiosity = options_.exactGatherContrast * radiositySum / areaSum;
+}
+
+// The active links above the leaf. Gathered exactly: element sources wholly visible from the
+// leaf (no polygon meets their shaft) and bright ones (the lamps), whose shadows rays would leave
+// noisy. The others, and the root elements of cluster sources, by rays: they send the radiosity
+// of the leaf each ray meets, so a source's part hidden from the leaf, often the part in shadow
+// (the floor under a crate, a wall behind a sofa), is not sent at the mean radiosity of the
+// whole source.
+RadiositySolver::LeafSources RadiositySolver::leafSources(int id) const {
+  const GatherIndex& g = gatherIndex_;
+  const Element& leaf = elements_[id];
+  LeafSources sources;
+  const auto collect = [&](const std::vector<int>& links) {
+    for (int index : links) {
+      const NodeRef s = links_[index].source;
+      if (s.isCluster()) {
+        for (int i = clusters_[s.index].elementBegin; i < clusters_[s.index].elementEnd; ++i)
+          sources.rayElements.push_back(rootOrder_[i]);
+        continue;
+      }
+      std::vector<PolygonId> hiding = shaftOccluders(leaf, elements_[s.index]);
+      if (!hiding.empty() && !(radiometry(s).emission.maxComponent() > g.brightRadiosity)) {
+        sources.rayElements.push_back(s.index);
+        continue;
+      }
+      sources.exactLinks.push_back(index);
+      sources.occluders.push_back(std::move(hiding));
+      sources.exactSources.push_back(s.index);
+    }
+  };
+  int root = id;
+  for (int e = id; e >= 0; e = elements_[e].parent) {
+    collect(g.elementLinks[e]);
+    root = e;
+  }
+  for (int c = g.rootCluster[root]; c >= 0; c = g.parentCluster[c]) collect(g.clusterLinks[c]);
+  std::sort(sources.exactSources.begin(), sources.exactSources.end());
+  return sources;
+}
+
+void RadiositySolver::finalGather() {
+  indexGatherSources();
   std::vector<LeafGather> gathered(elements_.size());
   // The exact direct irradiance at the leaves' exposed points, on this thread: the function may
   // not be thread-safe (the discontinuity mesh's exact arrangements cache lazily).
@@ -145,41 +189,11 @@ void RadiositySolver::finalGather() {
   parallelFor((long long)elements_.size(), options_.threads, [&](long long id) {
     if (!elements_[id].isLeaf()) return;
     const Element& leaf = elements_[id];
-    // The elements gathered exactly at this leaf (sorted): rays meeting them are already counted.
-    std::vector<int> exactSources;
-    // The active links above the leaf. Gathered exactly: element sources wholly visible from the
-    // leaf (no polygon meets their shaft) and bright ones (the lamps), whose shadows rays would
-    // leave noisy. The others, and the root elements of cluster sources, by rays: they send the
-    // radiosity of the leaf each ray meets, so a source's part hidden from the leaf, often the
-    // part in shadow (the floor under a crate, a wall behind a sofa), is not sent at the mean
-    // radiosity of the whole source.
-    std::vector<int> exactLinks, rayElements;
-    std::vector<std::vector<PolygonId>> occluders;
-    const auto collect = [&](const std::vector<int>& links) {
-      for (int index : links) {
-        const NodeRef s = links_[index].source;
-        if (s.isCluster()) {
-          for (int i = clusters_[s.index].elementBegin; i < clusters_[s.index].elementEnd; ++i)
-            rayElements.push_back(rootOrder_[i]);
-          continue;
-        }
-        std::vector<PolygonId> hiding = shaftOccluders(leaf, elements_[s.index]);
-        if (!hiding.empty() && !(radiometry(s).emission.maxComponent() > brightRadiosity)) {
-          rayElements.push_back(s.index);
-          continue;
-        }
-        exactLinks.push_back(index);
-        occluders.push_back(std::move(hiding));
-        exactSources.push_back(s.index);
-      }
-    };
-    int root = int(id);
-    for (int e = int(id); e >= 0; e = elements_[e].parent) {
-      collect(elementLinks[e]);
-      root = e;
-    }
-    for (int c = rootCluster[root]; c >= 0; c = parentCluster[c]) collect(clusterLinks[c]);
-    std::sort(exactSources.begin(), exactSources.end());
+    const LeafSources sources = leafSources(int(id));
+    const std::vector<int>& exactLinks = sources.exactLinks;
+    const std::vector<int>& rayElements = sources.rayElements;
+    const std::vector<int>& exactSources = sources.exactSources;
+    const std::vector<std::vector<PolygonId>>& occluders = sources.occluders;
     const std::vector<PolygonId>& partners = contacts_[leaf.polygon];
 
     SplitMix rng(options_.seed * 0x9e3779b97f4a7c15ull + id);
@@ -226,7 +240,8 @@ void RadiositySolver::finalGather() {
       }
       const double remainder = 1 - exactSum;
       if (!rayElements.empty() && remainder > 0)
-        splitRemainder(leaf, cells[k], x, remainder, rayElements, exactSources, rng, leafGather);
+        splitRemainder(leaf, cells[k], x, remainder, rayElements, exactSources,
+                       options_.finalGatherRays, rng, leafGather);
     }
     // One entry per element, weights per point of its kind (the mean over those points).
     const auto merge = [](std::vector<GatherEntry>& list, int points) {
@@ -262,13 +277,13 @@ void RadiositySolver::finalGather() {
 void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell,
                                      const Vec3& x, double remainder,
                                      const std::vector<int>& rayElements,
-                                     const std::vector<int>& exactSources, SplitMix& rng,
-                                     LeafGather& gather) const {
+                                     const std::vector<int>& exactSources, int rayCount,
+                                     SplitMix& rng, LeafGather& gather) const {
   std::vector<GatherEntry>& entries = gather.exposed;
   constexpr double kNoRays = 1e-4;
   constexpr int kRounds = 8;
   constexpr double kSeam = 10;
-  const int rays = std::max(0, options_.finalGatherRays);
+  const int rays = std::max(0, rayCount);
   std::vector<int> met;
   if (rays > 0 && remainder > kNoRays) {
     // side² strata, the rays beyond them unstratified: strata left empty would leave a range
@@ -422,6 +437,74 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
     stats_.finalIterations = iteration + 1;
     if (largestChange / scale < options_.convergence) break;
   }
+  exposedReflected_ = std::move(exposedReflected);
+  coveredReflected_ = std::move(coveredReflected);
+}
+
+// The final gather at one point instead of a leaf's 16 cells, for the reflected light only (what
+// the leaves send beyond their emission): the same sources, each exact one's point form factor
+// and exact visibility at the point, the rest by rays from the point.
+std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Vec3& normal,
+                                                     int rays, std::uint64_t seed) const {
+  if (exposedReflected_.empty()) return std::nullopt;
+  const std::optional<int> found = leafContaining(point, normal);
+  if (!found) return std::nullopt;
+  const int id = *found;
+  const Element& leaf = elements_[id];
+  if (isCovered(leaf.polygon, point)) {
+    // The point sees only the polygon covering it, where that polygon is covered too.
+    const int h = coveringLeaf(leaf.polygon, point);
+    return h >= 0 ? coveredReflected_[h] : Rgb{};
+  }
+  const LeafSources sources = leafSources(id);
+  const std::vector<PolygonId>& partners = contacts_[leaf.polygon];
+  LeafGather gather;
+  double exactSum = 0;
+  for (size_t j = 0; j < sources.exactLinks.size(); ++j) {
+    const Link& link = links_[sources.exactLinks[j]];
+    const Element& source = elements_[link.source.index];
+    if (std::find(partners.begin(), partners.end(), source.polygon) != partners.end()) continue;
+    const double f = unoccludedPointTransfer(link, point, leaf.normal, false);
+    if (!(f > 0)) continue;
+    if (sources.occluders[j].empty() && !source.isLeaf() &&
+        distance(point, source.bounds()) < source.bounds().diagonalLength()) {
+      // A wholly visible source close to the point (the ceiling 2 mm above a point of the back
+      // wall fills half its hemisphere): its leaves, each with its own radiosity, instead of the
+      // source's mean, which is not what the strip next to the point sends.
+      std::vector<int> stack{link.source.index};
+      while (!stack.empty()) {
+        const Element& e = elements_[stack.back()];
+        const int at = stack.back();
+        stack.pop_back();
+        if (!e.isLeaf()) {
+          for (int k = 0; k < 4; ++k) stack.push_back(e.firstChild + k);
+          continue;
+        }
+        const double fe = pointFormFactor(point, leaf.normal, e);
+        if (fe > 0) gather.exposed.push_back({at, fe});
+        exactSum += fe;
+      }
+      continue;
+    }
+    const double visible = visibleTransfer(point, leaf.normal, leaf.polygon, source,
+                                           sources.occluders[j], f, gather.clippedPoints);
+    if (visible > 0) gather.exposed.push_back({link.source.index, visible});
+    exactSum += visible;
+  }
+  const double remainder = 1 - exactSum;
+  if (!sources.rayElements.empty() && remainder > 0) {
+    // Rays from the point itself: a "cell" that is the point.
+    const std::array<Vec3, 4> cell{point, point, point, point};
+    Element atPoint = leaf;
+    atPoint.vertices = cell;
+    atPoint.vertexCount = 3;
+    SplitMix rng(seed);
+    splitRemainder(atPoint, cell, point, remainder, sources.rayElements, sources.exactSources, rays,
+                   rng, gather);
+  }
+  Rgb indirect;
+  for (const GatherEntry& e : gather.exposed) indirect += exposedReflected_[e.element] * e.weight;
+  return indirect;
 }
 
 }  // namespace penumbra

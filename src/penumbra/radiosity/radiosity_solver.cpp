@@ -49,6 +49,9 @@ void RadiositySolver::clear() {
   links_.clear();
   shafts_.clear();
   leafVertices_.clear();
+  gatherIndex_ = {};
+  exposedReflected_.clear();
+  coveredReflected_.clear();
   mesh_ = {};
   stats_ = {};
 }

@@ -180,6 +180,14 @@ class RadiositySolver {
   // Total irradiance (direct + indirect) at a point on the front side of a receiver; black when
   // the point lies on no polygon facing `normal`.
   Rgb irradiance(const Vec3& point, const Vec3& normal) const;
+  // The indirect irradiance at a point, gathered there (RadiosityOptions::finalGather): every
+  // active link above the point's leaf sends its source's reflected radiosity, wholly visible and
+  // bright element sources by their exact point form factor and visibility, the rest by `rays`
+  // cosine-distributed rays from the point (deterministic for a seed). Nothing is interpolated,
+  // so a point under a desk gets what it sees, not the mean of a leaf reaching out into the
+  // light. Nothing when the point lies on no polygon facing `normal`, or without a final gather.
+  std::optional<Rgb> gatheredIndirect(const Vec3& point, const Vec3& normal, int rays,
+                                      std::uint64_t seed) const;
   // Direct and indirect irradiance and radiosity interpolated from the leaf's vertices, or
   // nothing when the point lies on no polygon facing `normal`.
   std::optional<RadiositySample> sample(const Vec3& point, const Vec3& normal) const;
@@ -285,8 +293,25 @@ class RadiositySolver {
   static std::array<Vec3, 16> gatherPoints(const Element& leaf);
   void splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell, const Vec3& x,
                       double remainder, const std::vector<int>& rayElements,
-                      const std::vector<int>& exactSources, SplitMix& rng,
+                      const std::vector<int>& exactSources, int rays, SplitMix& rng,
                       LeafGather& gather) const;
+  // What the final gather needs to find the active links above a leaf (built by finalGather).
+  struct GatherIndex {
+    std::vector<std::vector<int>> elementLinks, clusterLinks;  // active links by receiver
+    std::vector<int> parentCluster, rootCluster;
+    double brightRadiosity = 0;  // sources emitting more are gathered exactly
+  };
+  void indexGatherSources();
+  // The sources above a leaf, split into those gathered exactly and those by rays.
+  struct LeafSources {
+    std::vector<int> exactLinks;
+    std::vector<std::vector<PolygonId>> occluders;  // per exact link: polygons in its shaft
+    std::vector<int> exactSources;                  // their source elements, sorted
+    std::vector<int> rayElements;
+  };
+  LeafSources leafSources(int leaf) const;
+  // The leaf holding the point of a receiver facing `normal`, if any.
+  std::optional<int> leafContaining(const Vec3& point, const Vec3& normal) const;
   void solveLeaves(const std::vector<LeafGather>& gathered);
   // The leaf element of `polygon` holding its point y (nearest by insideness), -1 if none.
   int leafAt(PolygonId polygon, const Vec3& y) const;
@@ -345,6 +370,10 @@ class RadiositySolver {
   // building.
   std::vector<PointTransfers> pointTransfers_;
   std::vector<std::array<std::uint32_t, 4>> leafVertices_;  // mesh vertices of each leaf
+  GatherIndex gatherIndex_;
+  // The final solution's reflected radiosity (B − M) of every element as the rest of the scene
+  // sees it, and of a partly covered leaf's covered part (what only the covering polygon sees).
+  std::vector<Rgb> exposedReflected_, coveredReflected_;
   RadiosityMesh mesh_;
   double minArea_ = 0;
   double totalPower_ = 0;     // emitted power (largest channel per polygon), the oracle's scale

@@ -63,8 +63,7 @@ void RadiositySolver::buildMesh() {
   }
 }
 
-std::optional<RadiositySample> RadiositySolver::sample(const Vec3& point,
-                                                       const Vec3& normal) const {
+std::optional<int> RadiositySolver::leafContaining(const Vec3& point, const Vec3& normal) const {
   if (elements_.empty()) return std::nullopt;
   const auto receiver = locateReceiver(scene_, *grid_, point, normal);
   if (!receiver || polygonRoots_[receiver->polygon].empty()) return std::nullopt;
@@ -81,6 +80,14 @@ std::optional<RadiositySample> RadiositySolver::sample(const Vec3& point,
     const std::array<int, 4> children{first, first + 1, first + 2, first + 3};
     id = mostInside(children.begin(), children.end());
   }
+  return id;
+}
+
+std::optional<RadiositySample> RadiositySolver::sample(const Vec3& point,
+                                                       const Vec3& normal) const {
+  const std::optional<int> found = leafContaining(point, normal);
+  if (!found) return std::nullopt;
+  const int id = *found;
   // Barycentric interpolation on the leaf's triangle (a quadrilateral is two triangles).
   const Element& e = elements_[id];
   const auto& lv = leafVertices_[id];
