@@ -1,6 +1,9 @@
 #include "penumbra/scene/scene_loader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include <numbers>
 
@@ -120,28 +123,36 @@ TEST(JsonSceneErrors, EachBadInputIsNamed) {
   expectInputError(dir.path("missing.json"), {"missing.json", "cannot open"});
   expectInputError(dir.write("malformed.json", "{ \"penumbra\": 1,\n  \"objects\": [ }"),
                    {"malformed.json:2:", "malformed JSON"});
-  expectInputError(scene("typo.json", kLamp, R"(, "camra": {})"), {"typo.json", "unknown key 'camra'"});
+  expectInputError(scene("typo.json", kLamp, R"(, "camra": {})"),
+                   {"typo.json", "unknown key 'camra'"});
   expectInputError(scene("objtypo.json", R"({ "material": "white", "polygon": [] })"),
                    {"/objects/0", "unknown key 'polygon'"});
   expectInputError(scene("unknownmat.json", R"({ "material": "chrome", "polygons": [] })"),
                    {"/objects/0/material", "unknown material 'chrome'"});
   expectInputError(
-      scene("nonplanar.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[1,1,0.3],[0,1,0]] ] })"),
+      scene("nonplanar.json",
+            R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[1,1,0.3],[0,1,0]] ] })"),
       {"nonplanar.json: /objects/0/polygons/0", "non-planar"});
-  expectInputError(scene("two.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[1,0,0]] ] })"),
-                   {"/objects/0/polygons/0", "fewer than 3 distinct vertices"});
-  expectInputError(scene("inf.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1e999,0,0],[0,1,0]] ] })"),
-                   {"inf.json", "number overflow"});
-  expectInputError(scene("string.json", R"({ "material": "white", "polygons": [ [[0,0,0],["a",0,0],[0,1,0]] ] })"),
+  expectInputError(
+      scene("two.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[1,0,0]] ] })"),
+      {"/objects/0/polygons/0", "fewer than 3 distinct vertices"});
+  expectInputError(
+      scene("inf.json",
+            R"({ "material": "white", "polygons": [ [[0,0,0],[1e999,0,0],[0,1,0]] ] })"),
+      {"inf.json", "number overflow"});
+  expectInputError(scene("string.json",
+                         R"({ "material": "white", "polygons": [ [[0,0,0],["a",0,0],[0,1,0]] ] })"),
                    {"/objects/0/polygons/0/1/0", "expected a number"});
   expectInputError(scene("both.json", R"({ "material": "white", "obj": "x.obj", "polygons": [] })"),
                    {"/objects/0", "exactly one of"});
-  expectInputError(scene("keys.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[0,1,0]] ],
+  expectInputError(
+      scene("keys.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[0,1,0]] ],
       "motion": [ { "frame": 2 }, { "frame": 1 } ] })"),
-                   {"/objects/0/motion/1/frame", "strictly increasing"});
-  expectInputError(scene("scale.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[0,1,0]] ],
+      {"/objects/0/motion/1/frame", "strictly increasing"});
+  expectInputError(
+      scene("scale.json", R"({ "material": "white", "polygons": [ [[0,0,0],[1,0,0],[0,1,0]] ],
       "transform": { "scale": [1, 0, 1] } })"),
-                   {"/objects/0/transform/scale", "non-zero"});
+      {"/objects/0/transform/scale", "non-zero"});
   expectInputError(dir.write("version.json", R"({ "penumbra": 2, "objects": [] })"),
                    {"version.json", "\"penumbra\": 1"});
   expectInputError(dir.write("empty.json", R"({ "penumbra": 1, "objects": [] })"),
@@ -171,10 +182,40 @@ TEST(ObjErrors, EachBadInputNamesTheLine) {
                    {"bent.obj:6", "non-planar"});
   expectInputError(objScene("nomat", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl gold\nf 1 2 3\n"),
                    {"nomat.obj:5", "unknown material 'gold'"});
-  expectInputError(dir.write("nofile.json", sceneJson(R"({ "material": "white", "obj": "absent.obj" })")),
-                   {"nofile.json: /objects/0/obj", "absent.obj", "cannot open"});
+  expectInputError(
+      dir.write("nofile.json", sceneJson(R"({ "material": "white", "obj": "absent.obj" })")),
+      {"nofile.json: /objects/0/obj", "absent.obj", "cannot open"});
   expectInputError(objScene("mtl", "mtllib absent.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
                    {"mtl.obj", "MTL"});
+}
+
+// A comment may end a vertex or face statement; the faces and their lines are those of the
+// same file without the comments, and nothing is left in the temporary folder.
+TEST(ObjScene, CommentsAfterStatements) {
+  test::TempDir dir;
+  dir.write("room.mtl", kRoomMtl);
+  const std::string path = dir.write("commented.obj", R"(mtllib room.mtl
+usemtl brick
+v 0 0 0
+v 1 0 0 # second
+v 1 1 0
+v 0 1 0#fourth
+f 1 2 3 4 # the lid
+f 1 2 4#x
+)");
+  const Scene scene = loadScene(path);
+  ASSERT_EQ(scene.polygonCount(), 2);
+  const SceneObject& o = scene.objects[0];
+  EXPECT_EQ(o.polygons[0].size(), 4u);
+  EXPECT_EQ(o.polygons[1].size(), 3u);
+  EXPECT_EQ(o.polygons[0][1], (Vec3{1, 0, 0}));
+  EXPECT_NE(o.polygonOrigin[0].find("commented.obj:7"), std::string::npos) << o.polygonOrigin[0];
+  EXPECT_NE(o.polygonOrigin[1].find("commented.obj:8"), std::string::npos) << o.polygonOrigin[1];
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
+    EXPECT_EQ(entry.path().filename().string().find("penumbra-" + std::to_string(::getpid())),
+              std::string::npos)
+        << entry.path();
 }
 
 TEST(ObjScene, FaceLinesFollowGroupsAndMaterials) {

@@ -2,12 +2,17 @@
 
 #include <tiny_obj_loader.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -40,6 +45,32 @@ struct Prescan {
   std::vector<FaceStatement> faces;
   std::vector<Vec3> vertices;  // parsed with strtod: correctly rounded, unlike tinyobjloader's
   std::vector<std::vector<std::string>> mtllibs;  // the file names of each `mtllib` statement
+  std::vector<std::string> lines;  // the file's lines, vertex and face statements uncommented
+  bool hasTrailingComments = false;
+};
+
+// A copy of the OBJ's lines in a temporary file, removed when this goes.
+class TemporaryObj {
+ public:
+  explicit TemporaryObj(const std::vector<std::string>& lines) {
+    static std::atomic<unsigned> counter{0};
+    path_ = (std::filesystem::temp_directory_path() /
+             ("penumbra-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".obj"))
+                .string();
+    std::ofstream out(path_);
+    for (const std::string& line : lines) out << line << '\n';
+    if (!out) throw InputError(path_, "cannot write a temporary copy of the OBJ file");
+  }
+  ~TemporaryObj() {
+    std::error_code ignored;
+    std::filesystem::remove(path_, ignored);
+  }
+  TemporaryObj(const TemporaryObj&) = delete;
+  TemporaryObj& operator=(const TemporaryObj&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
 };
 
 // The file names of an `mtllib` statement as tinyobjloader splits them: at spaces, a backslash
@@ -82,8 +113,16 @@ Prescan prescan(const std::string& path) {
     if (cr != std::string::npos && cr + 1 < text.size())
       throw InputError(at(path, line),
                        "lines end with a carriage return alone (CR); convert them to LF or CR LF");
-    std::istringstream tokens(text);
+    // A comment may end a vertex or face statement (`f 1 2 3 4 # the lid`), which
+    // tinyobjloader does not accept: such lines are handed to it without their comments.
+    // (Names after usemtl or mtllib are left whole: they may hold a '#'.)
+    const std::string statement = text.substr(0, text.find('#'));
     std::string keyword;
+    std::istringstream(statement) >> keyword;
+    const bool vertexOrFace = keyword == "v" || keyword == "f";
+    result.hasTrailingComments = result.hasTrailingComments || (vertexOrFace && statement != text);
+    result.lines.push_back(vertexOrFace ? statement : text);
+    std::istringstream tokens(vertexOrFace ? statement : text);
     tokens >> keyword;
     if (keyword == "v") {
       double c[3];
@@ -198,7 +237,10 @@ ObjMesh readObjMesh(const std::string& path) {
   const auto slash = path.find_last_of('/');
   config.mtl_search_path = slash == std::string::npos ? "./" : path.substr(0, slash + 1);
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config)) {
+  // MTL files are still found beside the original (mtl_search_path above).
+  std::optional<TemporaryObj> uncommented;
+  if (scanned.hasTrailingComments) uncommented.emplace(scanned.lines);
+  if (!reader.ParseFromFile(uncommented ? uncommented->path() : path, config)) {
     std::string error = reader.Error();
     while (!error.empty() && (error.back() == '\n' || error.back() == '.')) error.pop_back();
     throw InputError(path, "cannot parse OBJ: " + error);
