@@ -90,8 +90,12 @@ TEST(Backprojection, LabelsReproduceTheVisibleLightAtThePointAndNearby) {
               agreement.labelled, 100.0 * agreement.labelled / agreement.points,
               agreement.nearbyAgree, agreement.nearbyCompared,
               100.0 * agreement.nearbyAgree / std::max(1, agreement.nearbyCompared));
-  EXPECT_GE(agreement.labelled, 0.99 * agreement.points);
-  EXPECT_GE(agreement.nearbyAgree, 0.99 * agreement.nearbyCompared);
+  // Measured: 4,499 of 4,500 labelled (one point left to the reference), and every one of the
+  // 4,499 labelled points agrees nearby. At most ten unlabelled points (0.22%, 10x the measured
+  // one); nearby disagreement only where an event passes within 1e-6 of the scene size of the
+  // point, which none of these seeded points meets: all must agree (the bound was 99% for both).
+  EXPECT_GE(agreement.labelled, agreement.points - 10);
+  EXPECT_EQ(agreement.nearbyAgree, agreement.nearbyCompared);
 }
 
 }  // namespace

@@ -39,7 +39,8 @@ void compare(const PosedScene& scene, const std::vector<Probe>& probes, Agreemen
     for (int c = 0; c < 3; ++c) {
       const double e = c == 0 ? exact.r : (c == 1 ? exact.g : exact.b);
       const double m = c == 0 ? mc.mean.r : (c == 1 ? mc.mean.g : mc.mean.b);
-      const double se = c == 0 ? mc.standardError.r : (c == 1 ? mc.standardError.g : mc.standardError.b);
+      const double se =
+          c == 0 ? mc.standardError.r : (c == 1 ? mc.standardError.g : mc.standardError.b);
       if (se == 0) {
         // No variance: an umbra (or no light at all). The reference must be zero as well, up to
         // the rounding of its polygon booleans.
@@ -48,8 +49,8 @@ void compare(const PosedScene& scene, const std::vector<Probe>& probes, Agreemen
         continue;
       }
       const double z = (e - m) / se;
-      EXPECT_LE(std::abs(z), 4.0) << "at " << probe.point << " channel " << c << ": reference "
-                                  << e << ", Monte Carlo " << m << " ± " << se;
+      EXPECT_LE(std::abs(z), 4.0) << "at " << probe.point << " channel " << c << ": reference " << e
+                                  << ", Monte Carlo " << m << " ± " << se;
       ++agreement.compared;
       agreement.sumZ += z;
       agreement.sumZ2 += z * z;
@@ -84,11 +85,24 @@ TEST(ReferenceVsMonteCarlo, AgreeOverManyPointsAndScenes) {
     b.addPolygon("lamp", {{-0.8, -0.6, 2.5}, {0, 0.9, 2.5}, {0.7, -0.5, 2.5}});
     b.addPolygon("white", {{-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}});
     // An L in the tilted plane z = 1.2 + 0.125 (x + 0.6).
-    b.addPolygon("white", {{-0.6, -0.6, 1.2}, {0.2, -0.6, 1.3}, {0.2, -0.4, 1.3},
-                           {-0.4, -0.4, 1.225}, {-0.4, 0.5, 1.225}, {-0.6, 0.5, 1.2}});
-    b.addPolygon("white", {{0.1, 0.0, 0.8}, {0.9, 0.0, 0.8}, {0.9, 0.6, 0.8}, {0.75, 0.6, 0.8},
-                           {0.75, 0.1, 0.8}, {0.6, 0.1, 0.8}, {0.6, 0.6, 0.8}, {0.45, 0.6, 0.8},
-                           {0.45, 0.1, 0.8}, {0.3, 0.1, 0.8}, {0.3, 0.6, 0.8}, {0.1, 0.6, 0.8}});
+    b.addPolygon("white", {{-0.6, -0.6, 1.2},
+                           {0.2, -0.6, 1.3},
+                           {0.2, -0.4, 1.3},
+                           {-0.4, -0.4, 1.225},
+                           {-0.4, 0.5, 1.225},
+                           {-0.6, 0.5, 1.2}});
+    b.addPolygon("white", {{0.1, 0.0, 0.8},
+                           {0.9, 0.0, 0.8},
+                           {0.9, 0.6, 0.8},
+                           {0.75, 0.6, 0.8},
+                           {0.75, 0.1, 0.8},
+                           {0.6, 0.1, 0.8},
+                           {0.6, 0.6, 0.8},
+                           {0.45, 0.6, 0.8},
+                           {0.45, 0.1, 0.8},
+                           {0.3, 0.1, 0.8},
+                           {0.3, 0.6, 0.8},
+                           {0.1, 0.6, 0.8}});
     const PosedScene scene = b.pose();
     compare(scene, floorProbes(350, 1.8, 2), agreement);
   }
@@ -105,7 +119,8 @@ TEST(ReferenceVsMonteCarlo, AgreeOverManyPointsAndScenes) {
     for (int i = 0; i < 12; ++i) {
       const Vec3 c{u(rng), u(rng), h(rng)};
       const double r = s(rng);
-      b.addPolygon("white", {c + Vec3{-r, -r, 0.1}, c + Vec3{r, -r * 0.5, -0.1}, c + Vec3{0, r, 0.05}});
+      b.addPolygon("white",
+                   {c + Vec3{-r, -r, 0.1}, c + Vec3{r, -r * 0.5, -0.1}, c + Vec3{0, r, 0.05}});
     }
     const PosedScene scene = b.pose();
     std::vector<Probe> probes = floorProbes(250, 2.5, 4);
@@ -122,13 +137,17 @@ TEST(ReferenceVsMonteCarlo, AgreeOverManyPointsAndScenes) {
   const double rmsZ = std::sqrt(agreement.sumZ2 / agreement.compared);
   // For n independent-ish standard normals the mean has sd 1/√n; channels of one point are
   // correlated, so allow 4/√(points). The RMS of 64-batch t statistics is ≈ 1.016.
+  // Measured: mean z 0.0167 (bound 0.123), RMS z 1.0017. Both bounds are noise, not error: the
+  // RMS of ~1,050 independent t(63) values (the channels of a one-light point share their z) has
+  // a standard deviation near 0.022, so 1 ± 0.1 is about 4.5 of them (it was 1 ± 0.15).
   EXPECT_LT(std::abs(meanZ), 4 / std::sqrt(double(agreement.points)));
-  EXPECT_GT(rmsZ, 0.85);
-  EXPECT_LT(rmsZ, 1.15);
+  EXPECT_GT(rmsZ, 0.9);
+  EXPECT_LT(rmsZ, 1.1);
   RecordProperty("compared", agreement.compared);
   RecordProperty("zero_variance", agreement.exact);
   std::printf("points %d, compared %d, zero-variance %d, mean z %.4f, rms z %.4f, max |z| %.3f\n",
-              agreement.points, agreement.compared, agreement.exact, meanZ, rmsZ, agreement.maxAbsZ);
+              agreement.points, agreement.compared, agreement.exact, meanZ, rmsZ,
+              agreement.maxAbsZ);
 }
 
 }  // namespace

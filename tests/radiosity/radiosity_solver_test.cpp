@@ -102,7 +102,9 @@ TEST(RadiositySolver, ParallelSquaresMatchClosedForm) {
   const Polygon3 ceiling{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};  // faces -z
   const double expected = parallelRectangles(1, 1, 1);
   EXPECT_NEAR(expected, 0.19982, 1e-5);
-  EXPECT_NEAR(solvedFormFactor(floor, ceiling, 1e-3), expected, 0.01 * expected);
+  // Measured (session 9): 1.5e-4 relative (the receiver-area mean of exact point form factors
+  // by the links' 16-point quadrature and the leaves' cells).
+  EXPECT_NEAR(solvedFormFactor(floor, ceiling, 1e-3), expected, 1e-3 * expected);
 }
 
 TEST(RadiositySolver, PerpendicularSquaresMatchClosedForm) {
@@ -111,7 +113,8 @@ TEST(RadiositySolver, PerpendicularSquaresMatchClosedForm) {
   const double expected = perpendicularRectangles(1, 1, 1);
   EXPECT_NEAR(expected, 0.20004, 1e-5);
   // The shared edge makes the point form factor logarithmic there: refinement resolves it.
-  EXPECT_NEAR(solvedFormFactor(floor, wall, 1e-4), expected, 0.01 * expected);
+  // Measured (session 9): -6.7e-6 relative.
+  EXPECT_NEAR(solvedFormFactor(floor, wall, 1e-4), expected, 1e-4 * expected);
 }
 
 Scene furnace(Scene scene, double rho) {

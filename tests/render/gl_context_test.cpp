@@ -2,23 +2,28 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "penumbra/render/framebuffer.h"
 
 namespace penumbra {
 namespace {
 
-// No skipping: CI has neither a display nor a GPU, and headless EGL on llvmpipe must work there.
-TEST(GlContext, HeadlessContextIsGl33CoreOnLlvmpipe) {
+// No skipping: CI has neither a display nor a GPU, and headless EGL (Mesa's llvmpipe there) must
+// work. Any driver that gives an OpenGL 3.3 core context passes: llvmpipe, a GPU's own driver.
+// The version string's wording is the driver's ("4.5 (Core Profile) Mesa ...", "4.6.0 NVIDIA
+// ..."), so the profile is asked of the context (GL_CONTEXT_PROFILE_MASK), not read from it.
+TEST(GlContext, HeadlessContextIsGl33Core) {
   const std::unique_ptr<GlContext> context = GlContext::createHeadless();
   ASSERT_NE(context, nullptr);
   EXPECT_TRUE(context->majorVersion() > 3 ||
               (context->majorVersion() == 3 && context->minorVersion() >= 3))
       << context->versionString();
-  EXPECT_TRUE(context->isCoreProfile());
-  EXPECT_NE(context->versionString().find("Core Profile"), std::string::npos)
-      << context->versionString();
-  EXPECT_NE(context->rendererString().find("llvmpipe"), std::string::npos)
-      << context->rendererString();
+  EXPECT_TRUE(context->isCoreProfile()) << context->versionString();
+  EXPECT_FALSE(context->versionString().empty());
+  EXPECT_FALSE(context->rendererString().empty());
+  std::printf("[ info     ] GL %s on %s\n", context->versionString().c_str(),
+              context->rendererString().c_str());
   context->makeCurrent();
 }
 

@@ -152,6 +152,8 @@ TEST_F(ShadowVolumeRendererTest, HardShadowsEqualRayCastShadowTestPerPixel) {
       std::printf("%s frame %d: %d of %zu pixels differ (%.4f%%), %d of them off edges, %d unlit\n",
                   file.c_str(), frame, c.differing, cpu.pixels.size(), 100 * fraction, c.offEdges,
                   c.unlit);
+      // Measured on llvmpipe: at most 0.0889% of the pixels differ (desk-475), all on edges but
+      // for at most 8 of 307,200.
       EXPECT_LT(fraction, 1e-3) << file << " frame " << frame;
       // Off edges the two agree but for isolated single pixels (a sub-pixel sliver of shadow or
       // surface that only one pixel centre catches, so no neighbour shows it): at most 1e-4.
@@ -198,7 +200,9 @@ TEST_F(ShadowVolumeRendererTest, JitteredSoftShadowsConvergeToTheExactImage) {
       errors.push_back(error / total);
       std::printf("  N = %3d  error %.4f%%\n", n, 100 * errors.back());
     }
-    EXPECT_LT(errors.back(), 0.02) << file;
+    // 256 jittered hard-shadow images against the exact image: measured 0.115% (Cornell box) and
+    // 0.130% (desk-145) on llvmpipe; the bound is about 4x that (it was 2%).
+    EXPECT_LT(errors.back(), 5e-3) << file;
     EXPECT_LT(errors[4], errors[0]) << file;
     EXPECT_LT(errors[3], errors[1]) << file;
     EXPECT_LT(errors[2], errors[0]) << file;
@@ -246,6 +250,9 @@ TEST_F(ShadowVolumeRendererTest, ReflectedVolumesRenderTheMirroredScene) {
   }
   std::printf("reflection: %d of %zu pixels differ\n", differing, direct.pixels.size());
   EXPECT_GT(lit, int(direct.pixels.size() / 2));
+  // Measured 0 on llvmpipe. Not 0 here: the two paths round differently (the reflection applied
+  // to the vertices by the GPU against mirrored coordinates computed on the CPU), so on another
+  // driver a pixel centre lying on an edge may fall on either side: at most 3 of 30,000.
   EXPECT_LE(differing, int(direct.pixels.size() / 10000));
 }
 
@@ -285,8 +292,9 @@ TEST_F(ShadowVolumeRendererTest, MirrorCompositeEqualsOneBounceRayCast) {
         "the reflection (%d changed on the GPU), %d of them in reflected shadow, %d unlit\n",
         frame, c.differing, cpu.pixels.size(), 100 * fraction, c.offEdges, changedByMirror,
         differFromPlain, reflectedShadow, c.unlit);
+    // Measured on llvmpipe: at most 0.0191% of the pixels differ, at most 1 of them off edges.
     EXPECT_LT(fraction, 1e-3) << "frame " << frame;
-    EXPECT_LE(c.offEdges, int(cpu.pixels.size() / 10000)) << "frame " << frame;
+    EXPECT_LE(c.offEdges, int(cpu.pixels.size() / 50000)) << "frame " << frame;
     // The mirror covers a good part of the view, so the comparison is about the reflection.
     EXPECT_GT(changedByMirror, int(cpu.pixels.size() / 10)) << "frame " << frame;
     EXPECT_GT(differFromPlain, int(cpu.pixels.size() / 10)) << "frame " << frame;

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 namespace penumbra {
 namespace {
 
@@ -32,9 +36,15 @@ TEST(LightSamplesTest, SamplesLieOnTheLightAndAreUnbiased) {
       }
     }
     // Per-coordinate standard deviation on this shape is < 0.6, so the mean of n * 400 points
-    // has standard error < 0.6 / sqrt(1600) = 0.015 even without the gain of stratification.
-    EXPECT_NEAR(mean.x, expected.x, 0.05) << n;
-    EXPECT_NEAR(mean.y, expected.y, 0.05) << n;
+    // has standard error < 0.6 / sqrt(400 n) = 0.03 / sqrt(n) even without the gain of
+    // stratification: 4 of those, and never more than the 0.05 this bound was before. The bound
+    // is noise, not a measured error: measured |mean - centroid| 0.018, 0.021, 0.0074, 0.0028
+    // for n = 4, 7, 16, 64 (bounds 0.05, 0.045, 0.03, 0.015).
+    std::printf("[ info     ] n = %d: mean - centroid = (%.2e, %.2e)\n", n, mean.x - expected.x,
+                mean.y - expected.y);
+    const double tolerance = std::min(0.05, 0.12 / std::sqrt(double(n)));
+    EXPECT_NEAR(mean.x, expected.x, tolerance) << n;
+    EXPECT_NEAR(mean.y, expected.y, tolerance) << n;
   }
 }
 

@@ -1,9 +1,9 @@
 // `penumbra generate --polygons N -o SCENE.json`: scenes of any size for scaling runs.
 
 #include <cstdio>
-#include <fstream>
 
 #include "commands.h"
+#include "penumbra/base/output_file.h"
 #include "penumbra/scene/scene_generator.h"
 
 namespace penumbra::cli {
@@ -14,10 +14,8 @@ int runGenerate(const GenerateOptions& options, const CommonOptions& common) {
   generator.seed = options.seed;
   generator.frames = options.frames;
   const std::string json = generateSceneJson(generator);
-  std::ofstream out(options.output);
-  if (!out) throw UsageError("cannot write " + options.output);
-  out << json;
-  if (!out) throw UsageError("failed writing " + options.output);
+  // Whole or not at all; a failure (exit 2) names the file.
+  writeOutputFile(options.output, [&](std::ostream& out) { out << json; });
   if (!common.quiet) std::fprintf(stderr, "wrote %s\n", options.output.c_str());
   return kOk;
 }

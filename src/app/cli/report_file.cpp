@@ -1,9 +1,8 @@
 #include "report_file.h"
 
-#include <fstream>
-
 #include "commands.h"
 #include "peak_memory.h"
+#include "penumbra/base/output_file.h"
 
 namespace penumbra::cli {
 
@@ -13,10 +12,9 @@ void writeReport(nlohmann::json report, const std::string& path, const std::stri
   report["polygons"] = polygons;
   report["frames"] = frames;
   report["peak_memory_bytes"] = peakMemoryBytes();
-  std::ofstream out(path);
-  if (!out) throw UsageError("cannot write --report " + path);
-  out << report.dump(2) << "\n";
-  if (!out) throw UsageError("cannot write --report " + path);
+  // Whole or not at all (a failure, exit 2, names the file): the write is flushed and checked
+  // before "done", which a small report's buffered failure escaped.
+  writeOutputFile(path, [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 }
 
 }  // namespace penumbra::cli

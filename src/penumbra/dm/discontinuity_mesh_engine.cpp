@@ -741,7 +741,9 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   if (it == receivers_.end()) return std::nullopt;
   const WorldPolygon& receiver = posed_->polygons[match->polygon];
   const Vec3 onPlane = receiver.plane.project(p);
-  const auto atPointFor = [&](Answer why) { return Query{atPoint(p, n, match->polygon), why}; };
+  const auto atPointFor = [&](Answer why) {
+    return Query{withoutRoundingBelowZero(atPoint(p, n, match->polygon)), why};
+  };
   const auto face = it->second.mesh.locate(onPlane);
   // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
   // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
@@ -754,13 +756,17 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   if (it->second.eeeSegments.near(onPlane, nearEee())) return atPointFor(Answer::kNearEeePolyline);
   const Rgb e = backprojections_->irradiance(data.perLight, p, n, match->polygon);
   if (isDegenerate(e)) return atPointFor(Answer::kDegenerate);
-  return Query{e, Answer::kMesh};
+  return Query{withoutRoundingBelowZero(e), Answer::kMesh};
 }
 
 bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) {
   if (!e.isFinite()) return true;
   const double slack = std::max(1e-15, 1e-12 * e.maxComponent());
   return e.r < -slack || e.g < -slack || e.b < -slack;
+}
+
+Rgb DiscontinuityMeshEngine::withoutRoundingBelowZero(const Rgb& e) {
+  return {std::max(e.r, 0.0), std::max(e.g, 0.0), std::max(e.b, 0.0)};
 }
 
 }  // namespace penumbra

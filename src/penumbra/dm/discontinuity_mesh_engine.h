@@ -165,6 +165,9 @@ class DiscontinuityMeshEngine {
   // (1e-12 of its largest channel, or 1e-15)? Lambert's formula gives such values at points where
   // an occluder touches the receiver (zero-length edge vectors); they are answered at the point.
   static bool isDegenerate(const Rgb& e);
+  // A value that is not degenerate, with what rounding left below zero (Lambert's sum in an
+  // umbra: -1e-15 of the brightest value) set to zero: irradiance is never negative.
+  static Rgb withoutRoundingBelowZero(const Rgb& e);
   const DmStats& stats() const { return stats_; }
   const PosedScene& posedScene() const { return *posed_; }
   const UniformGrid& grid() const { return *grid_; }

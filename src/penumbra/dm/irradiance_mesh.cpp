@@ -21,15 +21,17 @@ namespace {
 // region that collapses, and gives NaN or a negative value. There the exact reference computes the
 // visible light at the corner itself; if the corner is degenerate for it too, at the point a
 // millionth of the way towards the triangle's centroid (the face's value is continuous up to its
-// boundary). Values within rounding of zero below it are kept as they are.
+// boundary). Values within rounding of zero below it are set to zero.
 Rgb cornerIrradiance(const DiscontinuityMeshEngine& engine, PolygonId receiver, int face,
                      const Vec3& p, const Vec3& inside, long long& fallbacks) {
+  using Engine = DiscontinuityMeshEngine;
   const Rgb atCorner = engine.faceIrradianceAt(receiver, face, p);
-  if (!DiscontinuityMeshEngine::isDegenerate(atCorner)) return atCorner;
+  if (!Engine::isDegenerate(atCorner)) return Engine::withoutRoundingBelowZero(atCorner);
   ++fallbacks;
   const Rgb exact = engine.irradianceAtPoint(receiver, p);
-  if (!DiscontinuityMeshEngine::isDegenerate(exact)) return exact;
-  return engine.irradianceAtPoint(receiver, p + (inside - p) * 1e-6);
+  if (!Engine::isDegenerate(exact)) return Engine::withoutRoundingBelowZero(exact);
+  return Engine::withoutRoundingBelowZero(
+      engine.irradianceAtPoint(receiver, p + (inside - p) * 1e-6));
 }
 
 bool isOnSegment(const Vec3& p, const Vec3& a, const Vec3& b, double tolerance) {
