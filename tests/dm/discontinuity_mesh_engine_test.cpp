@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 
@@ -32,6 +33,7 @@ test::SceneBuilder litRoom() {
 
 struct Comparison {
   int points = 0, failures = 0;
+  int answeredByMesh = 0;  // the rest were answered at the point (by the exact reference)
   double worst = 0;
   std::string firstFailure;
 };
@@ -45,8 +47,13 @@ Comparison compareWithReference(const PosedScene& scene, int count, std::uint64_
   Comparison c;
   for (const ReceiverPoint& q : sampleReceiverPoints(scene, count, seed)) {
     const Rgb expected = reference.irradiance(q.p, q.n, q.receiver);
-    const std::optional<Rgb> got = engine.irradiance(q.p, q.n);
+    // Only what the mesh answers is compared: a point the engine answers at the point is the
+    // reference's own value and says nothing (the fallback is counted, not trusted).
+    const auto query = engine.query(q.p, q.n);
     ++c.points;
+    if (query && query->answer != DiscontinuityMeshEngine::Answer::kMesh) continue;
+    ++c.answeredByMesh;
+    const std::optional<Rgb> got = query ? std::optional(query->irradiance) : std::nullopt;
     // Relative to the value; in the umbra (0) relative to the light's exitance (10), times 1e-12.
     const double scale = std::max(1e-11, expected.maxComponent());
     const double error = got ? std::abs(got->r - expected.r) / scale : INFINITY;
@@ -99,11 +106,17 @@ int facesWrongAtCorners(const PosedScene& scene, const std::string& what = "",
   return wrong;
 }
 
-void expectExact(const PosedScene& scene, int count, std::uint64_t seed) {
+// Every point the mesh answers equals the reference; at least `meshShare` of them are answered
+// by the mesh (the engine answers the rest at the point: unresolved and sliver faces, EEE
+// polylines, degenerate corners).
+void expectExact(const PosedScene& scene, int count, std::uint64_t seed, double meshShare = 0.995) {
   const Comparison c = compareWithReference(scene, count, seed);
-  EXPECT_EQ(c.failures, 0) << c.failures << " of " << c.points
-                           << " points differ by more than 1e-9 (worst " << c.worst << "), first "
-                           << c.firstFailure;
+  std::printf("[ info     ] %d of %d points answered by the mesh (%.2f%%)\n", c.answeredByMesh,
+              c.points, 100.0 * c.answeredByMesh / c.points);
+  EXPECT_EQ(c.failures, 0) << c.failures << " of " << c.answeredByMesh
+                           << " points answered by the mesh differ by more than 1e-9 (worst "
+                           << c.worst << "), first " << c.firstFailure;
+  EXPECT_GE(c.answeredByMesh, meshShare * c.points);
 }
 
 // A bundled scene (a desk with chairs, shelves, books: contacts, slits between books, receivers
@@ -256,7 +269,7 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
   engine.build(PosedScene(scene));
   const UniformGrid grid(scene);
   const ExactReference reference(scene, &grid);
-  int checked = 0, failures = 0;
+  int checked = 0, failures = 0, byMesh = 0;
   for (const WorldPolygon& receiver : scene.polygons) {
     const ReceiverMesh* mesh = engine.meshOf(receiver.id);
     if (!mesh) continue;
@@ -267,18 +280,48 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
           std::all_of(surfaces.begin(), surfaces.end(), [](SurfaceId id) { return id >= 0; });
       if (!event || distance(segment.first, segment.second) < 1e-6) continue;
       const Vec3 p = (segment.first + segment.second) * 0.5;
-      const std::optional<Rgb> got = engine.irradiance(p, receiver.plane.normal);
-      const double expected = reference.irradiance(p, receiver.plane.normal, receiver.id).r;
+      const auto query = engine.query(p, receiver.plane.normal);
       ++checked;
-      if (!got || std::abs(got->r - expected) > 1e-9 * std::max(1e-2, expected)) {
+      // What the engine answers at the point is the reference's own value: counted, not compared.
+      if (query && query->answer != DiscontinuityMeshEngine::Answer::kMesh) continue;
+      ++byMesh;
+      const double got = query ? query->irradiance.r : -1;  // -1: on no receiver
+      const double expected = reference.irradiance(p, receiver.plane.normal, receiver.id).r;
+      if (!(std::abs(got - expected) <= 1e-9 * std::max(1e-2, expected))) {
         if (failures++ == 0)
           ADD_FAILURE() << "on polygon " << receiver.id << " at (" << p.x << ", " << p.y << ", "
-                        << p.z << "): dm " << (got ? got->r : -1) << ", reference " << expected;
+                        << p.z << "): dm " << got << ", reference " << expected;
       }
     }
   }
+  std::printf("[ info     ] %d of %d edge midpoints answered by the mesh\n", byMesh, checked);
   EXPECT_GT(checked, 500);
-  EXPECT_EQ(failures, 0) << failures << " of " << checked;
+  EXPECT_EQ(failures, 0) << failures << " of " << byMesh;
+  // Measured (session 9): 754 of 3,052 (24.7%). The midpoints of edges next to an EEE event lie
+  // within the polylines' tolerance of the approximated conic and are answered at the point; the
+  // issue's target (99%) needs the exact side-of-the-quadric test (issue 21, item 3). A floor, so
+  // that the share cannot fall unnoticed.
+  EXPECT_GE(byMesh, 0.24 * checked);
+}
+
+// Faces that face verification leaves unresolved (a missing event crosses them; they are
+// answered at the point), per bundled scene at frame 0: bounds at what is measured, so that a
+// change that loses events shows. Measured (session 9) in brackets.
+TEST(DiscontinuityMeshEngine, UnresolvedFacesInBundledScenes) {
+  const std::vector<std::pair<const char*, long long>> bounds{
+      {"/scenes/cornell-box/cornell-box.json", 1},  // [1]
+      {"/scenes/office-desk/desk-145.json", 0},     // [0]
+      {"/scenes/office-desk/desk-307.json", 3},     // [3]
+      {"/scenes/office-desk/desk-475.json", 10},    // [10]
+      {"/scenes/chair-room/chair-room.json", 0},    // [0]
+  };
+  for (const auto& [name, bound] : bounds) {
+    DiscontinuityMeshEngine engine;
+    engine.build(loadScene(std::string(PENUMBRA_SOURCE_DIR) + name), 0);
+    std::printf("[ info     ] %s: %lld unresolved of %lld faces\n", name,
+                engine.stats().unresolvedFaces, engine.stats().meshFaces);
+    EXPECT_LE(engine.stats().unresolvedFaces, bound) << name;
+  }
 }
 
 TEST(DiscontinuityMeshEngine, FloatingBoxIsExact) {
