@@ -571,6 +571,35 @@ TEST(GltfLoaderErrors, MissingBufferFile) {
                    {"nobin.gltf: /buffers/0/uri", "missing.bin", "not found"});
 }
 
+// What tinygltf accepts silently: a default scene that does not exist, a transform that is not
+// an array of numbers (dropped: the node at the origin), a colour without alpha (read as white).
+TEST(GltfLoaderErrors, PropertiesTinygltfWouldDropSilently) {
+  {
+    GltfBuilder b;
+    b.node({{"mesh", b.quadMesh()}});
+    b.doc["scene"] = 0;
+    b.doc["scenes"] = json::array();
+    expectInputError(b.writeGltf("noscenes.gltf"), {"noscenes.gltf: /scene", "does not exist"});
+  }
+  {
+    GltfBuilder b;
+    b.node({{"mesh", b.quadMesh()}, {"translation", "1 2 3"}});
+    b.finishScenes();
+    expectInputError(b.writeGltf("string.gltf"),
+                     {"string.gltf: /nodes/0/translation", "array of 3 numbers"});
+  }
+  {
+    GltfBuilder b;
+    b.node({{"mesh", b.quadMesh()}});
+    b.finishScenes();
+    b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5}}}}}};
+    b.doc["meshes"][0]["primitives"][0]["material"] = 0;
+    expectInputError(
+        b.writeGltf("rgb.gltf"),
+        {"rgb.gltf: /materials/0/pbrMetallicRoughness/baseColorFactor", "array of 4 numbers"});
+  }
+}
+
 TEST(GltfLoaderErrors, BufferViewOutsideBuffer) {
   GltfBuilder b;
   b.node({{"mesh", b.quadMesh()}});

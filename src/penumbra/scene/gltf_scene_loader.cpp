@@ -603,6 +603,18 @@ class GltfSceneReader {
     for (size_t i = 0; i < it->size(); ++i) visit((*it)[i], indexPath(objectPath + "/" + key, i));
   }
 
+  // object[key], when present, must be an array of `size` numbers.
+  void checkNumberArray(const nlohmann::json& object, const char* key, const std::string& path,
+                        size_t size) const {
+    if (!object.is_object() || !object.contains(key)) return;
+    const nlohmann::json& value = object[key];
+    bool numbers = value.is_array() && value.size() == size;
+    for (size_t i = 0; numbers && i < size; ++i) numbers = value[i].is_number();
+    if (!numbers)
+      fail(path + "/" + key,
+           "must be an array of " + std::to_string(size) + " numbers, not " + value.dump());
+  }
+
   void checkIndexArray(const nlohmann::json& object, const char* key,
                        const std::string& objectPath) const {
     forEach(object, key, objectPath, [&](const nlohmann::json& element, const std::string& path) {
@@ -650,11 +662,32 @@ class GltfSceneReader {
           checkInteger(p["attributes"], name.c_str(), req, primitive + "/attributes");
       });
     });
+    // "scene" names one of "scenes": tinygltf accepts a default scene when there are none.
+    if (root.contains("scene")) {
+      const auto scenes = root.find("scenes");
+      const size_t count = scenes != root.end() && scenes->is_array() ? scenes->size() : 0;
+      if (root["scene"].is_number_integer() && root["scene"].get<int64_t>() >= int64_t(count))
+        fail("/scene", "scene " + root["scene"].dump() + " does not exist (" +
+                           std::to_string(count) + " scenes)");
+    }
     forEach(root, "nodes", "", [&](const nlohmann::json& n, const std::string& path) {
       checkInteger(n, "mesh", opt, path);
       checkInteger(n, "camera", opt, path);
       checkInteger(n, "skin", opt, path);
       checkIndexArray(n, "children", path);
+      // tinygltf drops a transform property that is not an array of numbers (a string
+      // "1 2 3"), and the node would silently sit at the origin.
+      checkNumberArray(n, "translation", path, 3);
+      checkNumberArray(n, "rotation", path, 4);
+      checkNumberArray(n, "scale", path, 3);
+      checkNumberArray(n, "matrix", path, 16);
+    });
+    forEach(root, "materials", "", [&](const nlohmann::json& m, const std::string& path) {
+      // A baseColorFactor of 3 numbers (no alpha) would be read as the default white.
+      if (m.is_object() && m.contains("pbrMetallicRoughness"))
+        checkNumberArray(m["pbrMetallicRoughness"], "baseColorFactor",
+                         path + "/pbrMetallicRoughness", 4);
+      checkNumberArray(m, "emissiveFactor", path, 3);
     });
     forEach(root, "scenes", "", [&](const nlohmann::json& scene, const std::string& path) {
       checkIndexArray(scene, "nodes", path);
