@@ -602,6 +602,45 @@ TEST(Cli, MalformedScenesAreBadInputForEveryVerb) {
 // `generate` reads no input: its mistakes are usage (exit 1) and a scene it cannot write, which
 // exits 2 as every write failure does (images, meshes, reports), naming the file and not claiming
 // to have written it.
+// Magnitudes the engines cannot represent (coordinates of 1e150 gave SIGFPE and SIGSEGV, a
+// camera at 1e308 Embree's assertion) are refused on load, naming the object, keyframe or line:
+// every pose stays within 1e9 of the origin and scales within 1e-6..1e6.
+TEST(Cli, ExtremeMagnitudesAreRefusedNamingWhere) {
+  test::TempDir dir;
+  const std::string base = kScene;
+  const auto variant = [&](const std::string& name, const std::string& from,
+                           const std::string& to) {
+    std::string text = base;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    return dir.write(name, text);
+  };
+  const std::string huge = variant("huge.json", "[[-5,-5,0],[5,-5,0],[5,5,0],[-5,5,0]]",
+                                   "[[-5e150,-5e150,0],[5e150,-5e150,0],[5e150,5e150,0],[-5e150,"
+                                   "5e150,0]]");
+  const std::string far =
+      variant("far.json", "\"translate\": [0, 0, -5]", "\"translate\": [0, 0, 1e308]");
+  const std::string scaled =
+      variant("scaled.json", "\"translate\": [0, 0, -5]", "\"scale\": [1e10, 1e10, 1e10]");
+  for (const auto& [scene, where] : std::vector<std::pair<std::string, std::string>>{
+           {huge, "huge.json: object 'floor'"},
+           {far, "far.json: object 'blocker'"},
+           {scaled, "scaled.json: object 'blocker' keyframe 1"}})
+    for (const auto& [verb, options] : std::vector<std::pair<std::string, std::string>>{
+             {"shadows ", " --mode full"},
+             {"render ", " --method raytrace -o " + dir.path("x.png")}}) {
+      const RunResult r = runPenumbra(verb + scene + options);
+      EXPECT_EQ(r.exitCode, 2) << verb << scene << ": " << r.output;
+      EXPECT_NE(r.output.find(where), std::string::npos) << r.output;
+    }
+  const std::string scene = dir.write("fine.json", base);
+  const std::string points = dir.write("far.txt", "0 0 0 0 0 1\n1e308 0 0 0 0 1\n");
+  const RunResult probe = runPenumbra("probe " + scene + " --points " + points);
+  EXPECT_EQ(probe.exitCode, 2) << probe.output;
+  EXPECT_NE(probe.output.find("far.txt:2"), std::string::npos) << probe.output;
+}
+
 // A report that cannot be written is a failure (exit 2) naming it, even a small one whose
 // write error a buffered stream kept until after the check.
 TEST(Cli, UnwritableReportFails) {

@@ -8,6 +8,7 @@
 
 #include "penumbra/base/input_error.h"
 #include "penumbra/base/input_file.h"
+#include "penumbra/scene/scene_loader.h"
 
 namespace penumbra::cli {
 
@@ -34,6 +35,10 @@ std::vector<ProbePoint> readPointsFile(const std::string& path) {
     if (values.size() != 6)
       throw InputError(path + ":" + std::to_string(line),
                        "expected 6 numbers (x y z nx ny nz), got " + std::to_string(values.size()));
+    for (int k = 0; k < 3; ++k)
+      if (!(std::abs(values[k]) <= kMaxCoordinate))
+        throw InputError(path + ":" + std::to_string(line),
+                         "the point lies beyond 1e9 of the origin, where no scene reaches");
     ProbePoint p;
     p.position = {values[0], values[1], values[2]};
     p.rawNormal = {values[3], values[4], values[5]};

@@ -1,6 +1,10 @@
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "penumbra/base/input_error.h"
+#include "penumbra/scene/reach_bounds.h"
 #include "penumbra/scene/scene_loader.h"
 
 namespace penumbra {
@@ -24,6 +28,40 @@ void validatePose(const std::string& where, const TrsPose& pose) {
     throw InputError(where, "transform is not finite and invertible");
 }
 
+std::string shortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+std::string magnitude() {
+  return shortNumber(kMaxCoordinate);
+}
+
+// Every pose the object reaches (its keyframes, conservatively between them) stays within
+// kMaxCoordinate of the origin, and its scale keeps a polygon's size within twelve orders of
+// magnitude of what was modelled (a glTF scale of 1e-30 collapsed polygons to points).
+void validateReach(const std::string& where, const SceneObject& object) {
+  const auto scaleOk = [](const TrsPose& pose) {
+    for (double s : {pose.scale.x, pose.scale.y, pose.scale.z})
+      if (!(std::abs(s) >= 1e-6 && std::abs(s) <= 1e6)) return false;
+    return true;
+  };
+  if (!scaleOk(object.transform))
+    throw InputError(where, "scale must lie within 1e-6 and 1e6 in magnitude per axis");
+  for (const Keyframe& k : object.motion.keyframes())
+    if (!scaleOk(k.pose))
+      throw InputError(where + " keyframe " + std::to_string(k.frame),
+                       "scale must lie within 1e-6 and 1e6 in magnitude per axis");
+  const Box3 reach = reachBounds(object);
+  for (const Vec3& corner : {reach.min, reach.max})
+    for (double c : {corner.x, corner.y, corner.z})
+      if (!(std::abs(c) <= kMaxCoordinate))
+        throw InputError(where, "reaches beyond " + magnitude() +
+                                    " of the origin in some pose (a coordinate of " +
+                                    shortNumber(c) + "); scenes are bounded by " + magnitude() +
+                                    " in every frame");
+}
+
 }  // namespace
 
 void validateScene(const Scene& scene) {
@@ -42,7 +80,15 @@ void validateScene(const Scene& scene) {
       if (auto defect = findPolygonDefect(object.polygons[i]))
         throw InputError(object.polygonOrigin[i], *defect);
     }
+    validateReach(objectWhere, object);
   }
+  if (scene.camera)
+    for (const Vec3& p : {scene.camera->eye, scene.camera->target})
+      if (!(std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate &&
+            std::abs(p.z) <= kMaxCoordinate))
+        throw InputError(scene.sourcePath, "the camera lies beyond " + magnitude() +
+                                               " of the origin (at " + shortNumber(p.x) + " " +
+                                               shortNumber(p.y) + " " + shortNumber(p.z) + ")");
   if (scene.polygonCount() == 0) throw InputError(scene.sourcePath, "the scene has no polygons");
 }
 
