@@ -6,9 +6,12 @@
 // rays, none of the polygon clipping the solver and the discontinuity mesh use).
 //
 // Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
-//                              [--no-final-gather] [--combined] [--visibility-rays N]
+//                              [--no-final-gather] [--combined] [--path-tracer]
+//                              [--visibility-rays N]
 //                              [--gather-rays N]
 //                              [scene.json ...]
+// --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
+// with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the
 // docs' tables use 262,144 in the Cornell box, 65,536 in the rooms).
 //
@@ -51,8 +54,9 @@ struct Options {
   int paths = 65536;
   int threads = 1;
   bool finalGather = true;
-  bool combined = false;   // CombinedSolution: exact direct (DM) + radiosity's indirect
-  int visibilityRays = 0;  // 0: the solver's default
+  bool combined = false;    // CombinedSolution: exact direct (DM) + radiosity's indirect
+  bool pathTracer = false;  // the path tracer's own error and cost at fewer paths instead
+  int visibilityRays = 0;   // 0: the solver's default
   int gatherRays = 0;
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
   std::vector<std::string> scenes;
@@ -123,9 +127,39 @@ double percentile(std::vector<double> values, double q) {
   return i + 1 < values.size() ? values[i] * (1 - t) + values[i + 1] * t : values[i];
 }
 
+// The path tracer itself as a solver, beside the curve: at the same points, with fewer paths
+// (another seed than the reference's), its median and p95 error and its cost per point, on one
+// thread: what a combined or radiosity solution must beat to be worth its solve.
+void pathTracerRows(const PosedScene& posed, const std::vector<OpenPoint>& points) {
+  const RayCaster rays(posed);
+  const PathTracedReference tracer(posed, rays);
+  std::printf("%10s %9s %8s %8s\n", "paths", "us/point", "median", "p95");
+  for (int paths : {16, 64, 256, 1024, 4096}) {
+    std::vector<double> errors;
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < points.size(); ++i) {
+      const OpenPoint& p = points[i];
+      const PathTracedEstimate e =
+          tracer.irradiance(p.point.p, p.point.n, p.point.receiver, paths, 77000 + i);
+      errors.push_back(std::abs(e.total().average() - p.reference) / p.reference);
+    }
+    const double microseconds =
+        1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+        double(points.size());
+    std::printf("%10d %9.1f %7.2f%% %7.2f%%\n", paths, microseconds, 100 * percentile(errors, 0.5),
+                100 * percentile(errors, 0.95));
+    std::fflush(stdout);
+  }
+}
+
 void run(const std::string& path, const Options& o) {
   const PosedScene posed = poseAt(loadScene(path), 0);
   const std::vector<OpenPoint> points = referencePoints(path, posed, o);
+  if (o.pathTracer) {
+    std::printf("%s: the path tracer alone, %zu open points\n", path.c_str(), points.size());
+    pathTracerRows(posed, points);
+    return;
+  }
   std::vector<double> relativeNoise;
   for (const OpenPoint& p : points) relativeNoise.push_back(p.standardError / p.reference);
   std::printf("%s: %zu open points, reference standard error median %.2f%%\n", path.c_str(),
@@ -225,6 +259,8 @@ int main(int argc, char** argv) {
       o.finalGather = false;
     else if (arg == "--combined")
       o.combined = true;
+    else if (arg == "--path-tracer")
+      o.pathTracer = true;
     else if (arg == "--visibility-rays")
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")
