@@ -261,6 +261,14 @@ TEST_F(PenumbraViewWindow, RadiosityScreenshotEqualsRender) {
                   s + " --method radiosity --size 128x128 --frame 1");
 }
 
+// The combined solution (exact direct light, radiosity's indirect light), reached by walking to
+// frame 1 in the viewer, drawn as `penumbra render --method combined` draws frame 1.
+TEST_F(PenumbraViewWindow, CombinedScreenshotEqualsRender) {
+  const std::string s = scene("cornell-box/cornell-box.json");
+  expectSameImage(s + " --method combined --tolerance 1e-2 --size 96x96 --frame 1",
+                  s + " --method combined --tolerance 1e-2 --size 96x96 --frame 1");
+}
+
 TEST_F(PenumbraViewWindow, RaytraceScreenshotEqualsRender) {
   const std::string s = scene("office-desk/desk-145.json");
   expectSameImage(s + " --method raytrace --size 96x72 --frame 1 --frames 2",

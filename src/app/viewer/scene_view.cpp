@@ -40,6 +40,7 @@ std::optional<ViewMethod> parseViewMethod(const std::string& name) {
   if (name == "raytrace") return ViewMethod::kRaytrace;
   if (name == "radiosity") return ViewMethod::kRadiosity;
   if (name == "volumes") return ViewMethod::kVolumes;
+  if (name == "combined") return ViewMethod::kCombined;
   return std::nullopt;
 }
 
@@ -51,6 +52,8 @@ const char* methodName(ViewMethod method) {
       return "radiosity";
     case ViewMethod::kVolumes:
       return "volumes";
+    case ViewMethod::kCombined:
+      return "combined";
   }
   return "?";
 }
@@ -110,6 +113,21 @@ void SceneView::applyChange(const SceneChange& change, bool updateRadiosity) {
     radiosityIsCurrent_ = false;
     u.radiositySolvesAfresh = method_ == ViewMethod::kRadiosity;
   }
+  if (method_ == ViewMethod::kCombined && combinedIsCurrent_ && updateRadiosity) {
+    start = std::chrono::steady_clock::now();
+    combined_->update(live_, change);
+    combinedMesh_ = combinedMesh();
+    u.engineSeconds += secondsSince(start);
+  } else {
+    combinedIsCurrent_ = false;
+    u.radiositySolvesAfresh = u.radiositySolvesAfresh || method_ == ViewMethod::kCombined;
+  }
+}
+
+ColoredMesh SceneView::combinedMesh() const {
+  // Corners about 1/100 of the scene apart, as `penumbra render --method combined` makes them.
+  return radianceMesh(combined_->displayMesh(live_.posed().extent.diagonalLength() / 100),
+                      live_.posed());
 }
 
 std::optional<PickHit> SceneView::pick(const Camera& camera, int width, int height, double x,
@@ -149,6 +167,21 @@ Image SceneView::render(const Camera& camera, int width, int height) {
       if (!meshRenderer_) meshRenderer_ = std::make_unique<MeshRenderer>();
       status_ = std::to_string(radiosityMesh_->indices.size() / 3) + " mesh triangles";
       return meshRenderer_->render(*radiosityMesh_, camera, width, height);
+    }
+    case ViewMethod::kCombined: {
+      if (!combined_) combined_ = std::make_unique<CombinedSolution>(radiosityOptions_);
+      if (!combinedIsCurrent_) {
+        combined_->build(live_);
+        combinedMesh_ = combinedMesh();
+        combinedIsCurrent_ = true;
+      }
+      if (!combinedRenderer_) {
+        MeshRenderer::Options drawing;
+        drawing.unlitBackFaces = true;  // as the ray-traced image: back sides receive nothing
+        combinedRenderer_ = std::make_unique<MeshRenderer>(drawing);
+      }
+      status_ = std::to_string(combinedMesh_->indices.size() / 3) + " mesh triangles";
+      return combinedRenderer_->render(*combinedMesh_, camera, width, height);
     }
     case ViewMethod::kRaytrace: {
       // A view over the live pose and grid, as `penumbra render` makes it; made per image since

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "penumbra/geometry/box.h"
+#include "penumbra/radiosity/combined_solution.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/render/image.h"
 #include "penumbra/render/mesh_renderer.h"
@@ -31,9 +32,9 @@
 
 namespace penumbra::viewer {
 
-enum class ViewMethod { kRaytrace, kRadiosity, kVolumes };
+enum class ViewMethod { kRaytrace, kRadiosity, kVolumes, kCombined };
 
-// "raytrace" | "radiosity" | "volumes", or nothing.
+// "raytrace" | "radiosity" | "volumes" | "combined", or nothing.
 std::optional<ViewMethod> parseViewMethod(const std::string& name);
 const char* methodName(ViewMethod method);
 
@@ -45,8 +46,9 @@ struct SceneUpdate {
   bool extentGrew = false;        // a move left the scene's reach: grid and caster rebuilt
   ViewMethod engine = ViewMethod::kVolumes;  // the engine shown while updating
   double engineSeconds = 0;                  // the shown engine's update() calls
-  // Radiosity shown but not updated (it was not solved yet, or several frames were walked): the
-  // next image solves it from scratch, which is what its update() does for now anyway.
+  // Radiosity (or the combined solution) shown but not updated (it was not solved yet, or
+  // several frames were walked): the next image solves it from scratch, which is what
+  // radiosity's update() does for now anyway.
   bool radiositySolvesAfresh = false;
   double gridSeconds = 0;     // DynamicScene::lastGridSeconds over the changes
   double raySeconds = 0;      // DynamicScene::lastRaySeconds over the changes
@@ -104,6 +106,8 @@ class SceneView {
   // updateRadiosity false a shown radiosity solution is not updated but solved afresh for the
   // next image (a walk of several frames: one solve instead of one per step).
   void applyChange(const SceneChange& change, bool updateRadiosity);
+  // The combined solution's display mesh, as radiances.
+  ColoredMesh combinedMesh() const;
 
   DynamicScene live_;
   ViewMethod method_;
@@ -121,6 +125,13 @@ class SceneView {
   bool radiosityIsCurrent_ = false;
   std::optional<ColoredMesh> radiosityMesh_;  // of radiosity_'s solution
   std::unique_ptr<MeshRenderer> meshRenderer_;
+  // The combined solution (exact direct light, radiosity's indirect light) follows the same
+  // rule: solved when shown, updated while shown, solved afresh after changes it missed. Drawn
+  // as `penumbra render --method combined` draws it (back sides unlit).
+  std::unique_ptr<CombinedSolution> combined_;
+  bool combinedIsCurrent_ = false;
+  std::optional<ColoredMesh> combinedMesh_;
+  std::unique_ptr<MeshRenderer> combinedRenderer_;
   SceneUpdate lastUpdate_;
   std::string status_;
 };

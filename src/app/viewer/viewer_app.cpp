@@ -74,6 +74,7 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods
     case GLFW_KEY_1:
     case GLFW_KEY_2:
     case GLFW_KEY_3:
+    case GLFW_KEY_4:
       input->method = key - GLFW_KEY_1;
       break;
     case GLFW_KEY_R:
@@ -141,7 +142,7 @@ void showLastUpdate(const SceneView& view) {
   if (u.engine == ViewMethod::kRaytrace)
     ImGui::TextUnformatted("raytrace: reads the moved grid and caster");
   else if (u.radiositySolvesAfresh)
-    ImGui::TextUnformatted("radiosity: solved afresh for the image");
+    ImGui::Text("%s: solved afresh for the image", methodName(u.engine));
   else
     ImGui::Text("%s update %.2f ms", methodName(u.engine), 1e3 * u.engineSeconds);
   ImGui::Text("volumes: %d rebuilt, %d occluder moves,", u.volumes.rebuilds,
@@ -342,8 +343,8 @@ int runViewer(const ViewerOptions& options) {
     ImGui::Begin("Penumbra", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::TextUnformatted(sceneName.c_str());
-    const char* methods[] = {"raytrace", "radiosity", "volumes"};
-    dirty |= ImGui::Combo("method", &methodIndex, methods, 3);
+    const char* methods[] = {"raytrace", "radiosity", "volumes", "combined"};
+    dirty |= ImGui::Combo("method", &methodIndex, methods, 4);
     if (ImGui::SliderInt("frame", &frame, 0, sceneFrames - 1)) {
       playing = false;
       dirty = true;

@@ -13,7 +13,7 @@ namespace penumbra::viewer {
 
 struct ViewerOptions {
   std::string scene;
-  std::string method = "volumes";  // raytrace | radiosity | volumes
+  std::string method = "volumes";  // raytrace | radiosity | volumes | combined
   int frame = 0;                   // first frame shown
   // volumes: jittered point lights per area light (the renderer's default)
   int lightSamples = ShadowVolumeRenderOptions{}.lightSamples;
