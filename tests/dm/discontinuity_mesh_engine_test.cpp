@@ -297,11 +297,11 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
   std::printf("[ info     ] %d of %d edge midpoints answered by the mesh\n", byMesh, checked);
   EXPECT_GT(checked, 500);
   EXPECT_EQ(failures, 0) << failures << " of " << byMesh;
-  // Measured (session 9): 754 of 3,052 (24.7%). The midpoints of edges next to an EEE event lie
-  // within the polylines' tolerance of the approximated conic and are answered at the point; the
-  // issue's target (99%) needs the exact side-of-the-quadric test (issue 21, item 3). A floor, so
-  // that the share cannot fall unnoticed.
-  EXPECT_GE(byMesh, 0.24 * checked);
+  // Measured (session 9): 2,496 of 3,052 (81.8%); 754 (24.7%) before the face near an EEE
+  // polyline was chosen by the exact side of each nearby EEE surface instead of answering at the
+  // point. What is left: midpoints whose side test is within rounding of the surface, and those
+  // where no nearby face's sample is certain (issue 21, item 3; its target is 99%).
+  EXPECT_GE(byMesh, 0.8 * checked);
 }
 
 // Faces that face verification leaves unresolved (a missing event crosses them; they are

@@ -288,6 +288,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   eeeSurfaces_.clear();
   const double chord = kEeeChordTolerance * scene.extent.diagonalLength();
   std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
+  std::map<PolygonId, std::vector<SurfaceId>> eeeSurfacesOnReceiver;  // of each of those
   std::vector<PolygonId> crossed;
   const auto eeeKeyOf = [&](const EeeSurface& surface) {
     EeeKey key;
@@ -347,6 +348,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       for (DiscontinuitySegment segment : trace.segments) {
         ++stats_.eeeSegments;
         eeeOnReceiver[segment.receiver].push_back({segment.p0, segment.p1});
+        eeeSurfacesOnReceiver[segment.receiver].push_back(segment.surface);
         perReceiver[segment.receiver].push_back(std::move(segment));
       }
       stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
@@ -464,7 +466,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                           sameSegmentGeometry(before->inputs, segments, renamed);
     ReceiverData data =
         keepMesh ? std::move(previous.at(receiver.id))
-                 : ReceiverData{ReceiverMesh(receiver), {}, SegmentProximity(eee), {}, eee};
+                 : ReceiverData{ReceiverMesh(receiver), {}, SegmentProximity(eee), {}, eee, {}};
+    // The polylines' surfaces by this computation's numbering (a kept mesh has the same
+    // polylines, maybe under other ids).
+    data.eeeSurfaceIds = eeeSurfacesOnReceiver[receiver.id];
     if (keepMesh) {
       data.mesh.renumberSurfaces(renamed);
       ++stats_.keptMeshes;
@@ -753,10 +758,67 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   if (data.sliver) return atPointFor(Answer::kSliverFace);
   // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
   // the backprojection is computed at the point itself there.
-  if (it->second.eeeSegments.near(onPlane, nearEee())) return atPointFor(Answer::kNearEeePolyline);
-  const Rgb e = backprojections_->irradiance(data.perLight, p, n, match->polygon);
+  const FaceData* answering = &data;
+  if (it->second.eeeSegments.near(onPlane, nearEee())) {
+    // Within the polylines' tolerance of an approximated conic: the face is the one on the
+    // point's side of every EEE surface near it (the exact side test), found among the located
+    // face and those a little off the point across the nearby polylines.
+    const std::optional<int> decided = faceBySides(it->second, *face, onPlane);
+    if (!decided) return atPointFor(Answer::kNearEeePolyline);
+    answering = &it->second.faces[*decided];
+    if (answering->unresolved) return atPointFor(Answer::kUnresolvedFace);
+    if (answering->sliver) return atPointFor(Answer::kSliverFace);
+  }
+  const Rgb e = backprojections_->irradiance(answering->perLight, p, n, match->polygon);
   if (isDegenerate(e)) return atPointFor(Answer::kDegenerate);
   return Query{withoutRoundingBelowZero(e), Answer::kMesh};
+}
+
+std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data, int located,
+                                                        const Vec3& p) const {
+  // The EEE surfaces of the polylines near p, and p's side of each.
+  std::vector<const EeeSurface*> near;
+  data.eeeSegments.forEachNear(p, nearEee(), [&](size_t index) {
+    const SurfaceId id = data.eeeSurfaceIds[index];
+    const EeeSurface* s = &eeeSurfaces_[size_t(id) - surfaces_.size()];
+    if (std::find(near.begin(), near.end(), s) == near.end()) near.push_back(s);
+    return true;
+  });
+  constexpr double kOnSurface = 1e-9;  // relative side values this small: on the surface
+  std::vector<double> sides;
+  for (const EeeSurface* s : near) {
+    const double side = eeeSide(*s, *posed_, *adjacency_, p);
+    if (!(std::abs(side) > kOnSurface)) return std::nullopt;
+    sides.push_back(side);
+  }
+  // A face whose sample lies on p's side of every one of them holds p.
+  const auto holds = [&](int face) {
+    const Vec3& sample = data.mesh.faces()[face].samplePoint;
+    if (data.eeeSegments.near(sample, nearEee())) return false;  // its sample decides nothing
+    for (size_t k = 0; k < near.size(); ++k) {
+      const double side = eeeSide(*near[k], *posed_, *adjacency_, sample);
+      if (!(std::abs(side) > kOnSurface) || (side > 0) != (sides[k] > 0)) return false;
+    }
+    return true;
+  };
+  if (holds(located)) return located;
+  // The faces a little off p, on either side of each nearby polyline.
+  const Vec3& normal = posed_->polygons[data.mesh.receiver()].plane.normal;
+  const double step = 2 * nearEee();
+  std::optional<int> found;
+  data.eeeSegments.forEachNear(p, nearEee(), [&](size_t index) {
+    const auto& [a, b] = data.eeeInputs[index];
+    const Vec3 across = normalize(cross(normal, b - a));
+    for (double sign : {1.0, -1.0}) {
+      const auto face = data.mesh.locate(p + across * (sign * step));
+      if (face && *face != located && holds(*face)) {
+        found = face;
+        return false;
+      }
+    }
+    return true;
+  });
+  return found;
 }
 
 bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) {

@@ -227,7 +227,13 @@ class DiscontinuityMeshEngine {
     // What the mesh was built from: the segments inserted (in order) and the EEE polylines.
     std::vector<DiscontinuitySegment> inputs;
     std::vector<std::pair<Vec3, Vec3>> eeeInputs;
+    std::vector<SurfaceId> eeeSurfaceIds;  // the EEE surface of each of eeeInputs
   };
+  // The face holding p (near an EEE polyline of the receiver) by the exact side of each EEE
+  // surface near it: the located face or one a little off p across a nearby polyline, whose
+  // sample is on p's side of every such surface; nothing when no face is certain (p on a
+  // surface, or no candidate agrees).
+  std::optional<int> faceBySides(const ReceiverData& data, int located, const Vec3& p) const;
   // `compared` (optional, one per light) counts the corners where the labels were compared.
   bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
                            const SegmentProximity& eeeSegments,

@@ -611,6 +611,46 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
   return surfaces;
 }
 
+double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
+               const Vec3& p) {
+  std::array<std::pair<Vec3, Vec3>, 3> lines{};  // a point and a direction of each
+  int count = 0;
+  if (surface.kind == EeeKind::kLightEdge) {
+    const std::vector<Vec3>& v = scene.polygons[surface.light].vertices;
+    const Vec3& a = v[surface.lightEdge];
+    const Vec3& b = v[(surface.lightEdge + 1) % v.size()];
+    lines[count++] = {a, b - a};
+  }
+  for (EdgeId e : surface.occluderEdges()) {
+    const SceneEdge& edge = adjacency.edges()[e];
+    const Vec3& a = adjacency.position(edge.a);
+    lines[count++] = {a, adjacency.position(edge.b) - a};
+  }
+  const auto& [a1, d1] = lines[0];
+  const auto& [a2, d2] = lines[1];
+  const auto& [a3, d3] = lines[2];
+  // T(p) lies in the plane through p and the first line; it meets the second line where that
+  // line crosses the plane, and the first line where T crosses it within the plane.
+  const Vec3 planeNormal = cross(d1, a1 - p);
+  const double across = dot(planeNormal, d2);
+  const double scale = length(planeNormal) * length(d2);
+  if (!(std::abs(across) > 1e-12 * scale)) return std::nan("");
+  const Vec3 q2 = a2 + d2 * (dot(planeNormal, p - a2) / across);
+  const Vec3 toQ2 = q2 - p;
+  // q1 = p + t (q2 − p) on the first line: (p − a1) + t toQ2 parallel to d1.
+  const Vec3 c = cross(toQ2, d1);
+  const double c2 = dot(c, c);
+  if (!(c2 > 1e-24 * dot(toQ2, toQ2) * dot(d1, d1))) return std::nan("");
+  const double t = -dot(cross(p - a1, d1), c) / c2;
+  const Vec3 q1 = p + toQ2 * t;
+  const Vec3 d = q2 - q1;  // T, from the first line to the second
+  const Vec3 m = cross(q1, d), m3 = cross(a3, d3);
+  const double side = dot(d, m3) + dot(d3, m);
+  // Relative to the product of the lengths and the scene-sized moments, so 1e-12 is rounding.
+  const double magnitude = length(d) * length(d3) * (length(q1) + length(a3) + length(q2 - a3));
+  return magnitude > 0 ? side / magnitude : std::nan("");
+}
+
 std::vector<EdgeId> EeeSurface::occluderEdges() const {
   if (kind == EeeKind::kOccluderEdges) return {first, second, third};
   return {first, second};

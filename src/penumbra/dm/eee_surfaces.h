@@ -43,6 +43,16 @@ struct EeeSurface {
   std::vector<EdgeId> occluderEdges() const;
 };
 
+// On which side of the surface's quadric the point p lies: for the three lines of its edges (the
+// light edge's line first), the transversal T(p) through p meeting the first two, oriented from
+// the first to the second, against the third line (the sign of their Plücker side product, which
+// changes exactly where T(p) meets the third line: on the surface). Scaled to be relative (its
+// size compares with 1); NaN where T(p) is not defined (p in a plane with the first line parallel
+// to the second). Used where the traced polyline stands within its tolerance of the conic: the
+// side decides which face a point belongs to.
+double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
+               const Vec3& p);
+
 // Surfaces for every light edge and pair of silhouette-capable occluder edges (not sharing a
 // vertex) that some line meeting all three crosses in front of the light. The pairs come from the
 // emitter EV surfaces of `light` after casting: every range of such lines ends on a line of one of

@@ -18,6 +18,8 @@ class SegmentProximity {
   SegmentProximity() = default;
   explicit SegmentProximity(std::vector<std::pair<Vec3, Vec3>> segments)
       : segments_(std::move(segments)) {
+    original_.resize(segments_.size());
+    for (size_t i = 0; i < original_.size(); ++i) original_[i] = i;
     if (segments_.empty()) return;
     Vec3 lo = segments_[0].first, hi = lo;
     for (const auto& [a, b] : segments_)
@@ -27,8 +29,11 @@ class SegmentProximity {
       }
     const Vec3 spread = hi - lo;
     axis_ = spread.x >= spread.y && spread.x >= spread.z ? 0 : spread.y >= spread.z ? 1 : 2;
-    std::sort(segments_.begin(), segments_.end(),
-              [&](const auto& s, const auto& t) { return low(s) < low(t); });
+    std::sort(original_.begin(), original_.end(),
+              [&](size_t i, size_t j) { return low(segments_[i]) < low(segments_[j]); });
+    std::vector<std::pair<Vec3, Vec3>> sorted;
+    for (size_t i : original_) sorted.push_back(segments_[i]);
+    segments_ = std::move(sorted);
     for (const auto& s : segments_) longest_ = std::max(longest_, high(s) - low(s));
     lows_.reserve(segments_.size());
     for (const auto& s : segments_) lows_.push_back(low(s));
@@ -38,6 +43,18 @@ class SegmentProximity {
   size_t size() const { return segments_.size(); }
 
   bool near(const Vec3& p, double distanceBound) const {
+    bool found = false;
+    forEachNear(p, distanceBound, [&](size_t) {
+      found = true;
+      return false;
+    });
+    return found;
+  }
+
+  // Calls visit(index) with the index, in the order given to the constructor, of each segment
+  // within distanceBound of p, while visit returns true.
+  template <typename Visit>
+  void forEachNear(const Vec3& p, double distanceBound, Visit visit) const {
     const double x = coordinate(p);
     auto it = std::lower_bound(lows_.begin(), lows_.end(), x - distanceBound - longest_);
     for (size_t i = size_t(it - lows_.begin()); i < segments_.size(); ++i) {
@@ -46,9 +63,8 @@ class SegmentProximity {
       const Vec3 ab = b - a;
       const double len2 = dot(ab, ab);
       const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-      if (distance(p, a + ab * t) <= distanceBound) return true;
+      if (distance(p, a + ab * t) <= distanceBound && !visit(original_[i])) return;
     }
-    return false;
   }
 
  private:
@@ -60,7 +76,8 @@ class SegmentProximity {
     return std::max(coordinate(s.first), coordinate(s.second));
   }
 
-  std::vector<std::pair<Vec3, Vec3>> segments_;
+  std::vector<std::pair<Vec3, Vec3>> segments_;  // sorted by their low end
+  std::vector<size_t> original_;                 // each one's index before sorting
   std::vector<double> lows_;
   int axis_ = 0;
   double longest_ = 0;
