@@ -27,6 +27,12 @@ struct CommonOptions {
   int threads = 0;  // 0: all hardware threads
 };
 
+// A command's radiosity options with the global --threads (the solution does not depend on it).
+inline RadiosityOptions withThreads(RadiosityOptions options, const CommonOptions& common) {
+  options.threads = common.threads;
+  return options;
+}
+
 struct InfoOptions {
   std::string scene;
   std::optional<int> frame;

@@ -112,9 +112,7 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                           {"degenerate", answers[Answer::kDegenerate]}};
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
-    RadiosityOptions radiosityOptions = options.radiosity;
-    radiosityOptions.threads = common.threads;  // the result does not depend on it
-    RadiositySolver solver(radiosityOptions);
+    RadiositySolver solver(withThreads(options.radiosity, common));
     solver.build(live);
     walkToFrame(live, options.frame,
                 [&](const SceneChange& change) { solver.update(live, change); });
@@ -126,9 +124,7 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
   } else if (options.method == "combined") {
     // Total irradiance: exact direct from the discontinuity mesh, radiosity's indirect (lit by
     // that exact direct light) interpolated on its leaves.
-    RadiosityOptions radiosityOptions = options.radiosity;
-    radiosityOptions.threads = common.threads;  // the result does not depend on it
-    CombinedSolution solution(radiosityOptions);
+    CombinedSolution solution(withThreads(options.radiosity, common));
     solution.build(live);
     walkToFrame(live, options.frame,
                 [&](const SceneChange& change) { solution.update(live, change); });

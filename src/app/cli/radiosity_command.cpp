@@ -59,9 +59,7 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
   // One live scene and one solver held across frames, told each change (the solver recomputes
   // inside update() until the line-space update lands).
   DynamicScene live(scene, first);
-  RadiosityOptions radiosityOptions = options.radiosity;
-  radiosityOptions.threads = common.threads;  // the result does not depend on it
-  RadiositySolver solver(radiosityOptions);
+  RadiositySolver solver(withThreads(options.radiosity, common));
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("radiosity", last - first + 1, common.quiet);
   for (int frame = first; frame <= last; ++frame) {

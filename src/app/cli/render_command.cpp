@@ -95,9 +95,7 @@ void renderRaytrace(const RenderOptions& options, const CommonOptions& common,
 // The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
 void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
                      const DynamicScene& live, const Camera& camera) {
-  RadiosityOptions radiosityOptions = options.radiosity;
-  radiosityOptions.threads = common.threads;  // the result does not depend on it
-  RadiositySolver solver(radiosityOptions);
+  RadiositySolver solver(withThreads(options.radiosity, common));
   solver.build(live);
   const ColoredMesh mesh = radianceMesh(solver.mesh());
   const auto context = GlContext::createHeadless();
@@ -194,9 +192,7 @@ void renderDmStrip(const RenderOptions& options, const CommonOptions& common, co
 // (each corner: the exact direct irradiance plus the indirect one interpolated there).
 void renderCombined(const RenderOptions& options, const CommonOptions& common,
                     const DynamicScene& live, const Camera& camera) {
-  RadiosityOptions radiosityOptions = options.radiosity;
-  radiosityOptions.threads = common.threads;  // the result does not depend on it
-  CombinedSolution solution(radiosityOptions);
+  CombinedSolution solution(withThreads(options.radiosity, common));
   solution.build(live);
   // Corners about 1/100 of the scene apart, as for --method dm.
   const IrradianceMesh mesh = solution.displayMesh(live.posed().extent.diagonalLength() / 100);

@@ -495,11 +495,8 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
   if (!sources.rayElements.empty() && remainder > 0) {
     // Rays from the point itself: a "cell" that is the point.
     const std::array<Vec3, 4> cell{point, point, point, point};
-    Element atPoint = leaf;
-    atPoint.vertices = cell;
-    atPoint.vertexCount = 3;
     SplitMix rng(seed);
-    splitRemainder(atPoint, cell, point, remainder, sources.rayElements, sources.exactSources, rays,
+    splitRemainder(leaf, cell, point, remainder, sources.rayElements, sources.exactSources, rays,
                    rng, gather);
   }
   Rgb indirect;

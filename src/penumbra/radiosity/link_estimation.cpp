@@ -118,11 +118,12 @@ std::optional<double> contactShare(const Element& r, const Element& s, double sl
   return overlap.size() >= 3 ? std::min(1.0, area(overlap) / r.area) : 0.0;
 }
 
-// Adaptive midpoint rule for the mean over the cell `loop` of the point form factor to `s`.
-// `centre` is the value at the cell's centre; `level` counts cells below the receiver.
+// The quadrature's deepest levels (see FormFactorQuadrature::maxLevel).
 constexpr int kLinkMaxLevel = 1;
 constexpr int kCellMaxLevel = 6;
 
+// Adaptive midpoint rule for the mean over the cell `loop` of the point form factor to `s`.
+// `centre` is the value at the cell's centre; `level` counts cells below the receiver.
 struct FormFactorQuadrature {
   const Element& source;
   Vec3 normal;
