@@ -157,20 +157,16 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
 }
 
 // A face's identity across two meshes of one receiver: its sample point and area (both functions
-// of its boundary alone) and its boundary's corners, sorted.
+// of its boundary alone) and its boundary, canonical (ReceiverMesh::faceBoundary).
 struct FaceSignature {
-  std::array<double, 4> key;
-  std::vector<std::array<double, 3>> corners;
+  std::array<double, 4> sampleAndArea;
+  std::vector<Polygon3> boundary;
   bool operator==(const FaceSignature&) const = default;
 };
 
 FaceSignature signatureOf(const ReceiverMesh& mesh, const MeshFace& face) {
-  FaceSignature signature{{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area},
-                          {}};
-  for (const Polygon3& cycle : mesh.faceBoundary(face.index))
-    for (const Vec3& p : cycle) signature.corners.push_back({p.x, p.y, p.z});
-  std::sort(signature.corners.begin(), signature.corners.end());
-  return signature;
+  return {{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area},
+          mesh.faceBoundary(face.index)};
 }
 
 Box3 faceBounds(const ReceiverMesh& mesh, int face) {
@@ -181,6 +177,41 @@ Box3 faceBounds(const ReceiverMesh& mesh, int face) {
 }
 
 }  // namespace
+
+bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshFace& face,
+                                            const ReceiverData& before, const MeshFace& faceBefore,
+                                            bool sameEee, const SceneChange& change) const {
+  // The face's data is computed from its boundary (here the same, canonical), its sample, and its
+  // corner probes (labelsHoldAtCorners): a backprojection per light at each, which reads only the
+  // polygons its cone admits (ExactReference::mayOcclude). The probes are the points just inside
+  // its corners that lie strictly inside it (a function of its geometry) and away from EEE
+  // polylines: the same where the polylines near every such point are the same.
+  std::vector<Vec3> insets;
+  for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
+    for (const Vec3& corner : cycle)
+      insets.push_back(corner + (face.samplePoint - corner) * kCornerInset);
+  if (!sameEee) {
+    const double near = nearEee();
+    if (now.eeeSegments.near(face.samplePoint, near) !=
+        before.eeeSegments.near(faceBefore.samplePoint, near))
+      return false;
+    for (const Vec3& p : insets)
+      if (now.eeeSegments.near(p, near) != before.eeeSegments.near(p, near)) return false;
+  }
+  // Nothing moved (old or new bounds) through the box around the face and the lights: no cone
+  // can admit a moved polygon. Else the cones themselves, from the sample and every inset point
+  // (the probes among them).
+  if (!isCrossed(faceBounds(now.mesh, face.index), change)) return true;
+  insets.push_back(face.samplePoint);
+  const Vec3& normal = posed_->polygons[now.mesh.receiver()].plane.normal;
+  for (const Vec3& p : insets)
+    for (PolygonId light : posed_->lights)
+      for (const ObjectMove& move : change.moves)
+        if (reference_->mayOcclude(p, normal, light, move.boundsBefore) ||
+            reference_->mayOcclude(p, normal, light, move.boundsAfter))
+          return false;
+  return true;
+}
 
 void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_ = {};
@@ -481,24 +512,25 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     // Faces whose data can be taken from the frame before, by their index there.
     std::vector<int> reusable(data.mesh.faces().size(), -1);
     const ReceiverData* old = keepMesh ? &data : before;
-    if (old && !moved && old->eeeInputs == eee) {
+    if (old && !moved && !change->movesLight()) {
+      const bool sameEee = old->eeeInputs == eee;
       std::map<std::array<double, 4>, std::vector<int>> oldFaces;
       if (!keepMesh)
         for (const MeshFace& face : old->mesh.faces())
           oldFaces[{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area}]
               .push_back(face.index);
       for (const MeshFace& face : data.mesh.faces()) {
-        if (isCrossed(faceBounds(data.mesh, face.index), *change)) continue;
-        if (keepMesh) {
-          reusable[face.index] = face.index;
-          continue;
+        int g = keepMesh ? face.index : -1;
+        if (!keepMesh) {
+          const auto candidates = oldFaces.find(
+              {face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area});
+          if (candidates == oldFaces.end()) continue;
+          const FaceSignature signature = signatureOf(data.mesh, face);
+          for (int c : candidates->second)
+            if (signatureOf(old->mesh, old->mesh.faces()[c]) == signature) g = c;
         }
-        const auto candidates =
-            oldFaces.find({face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area});
-        if (candidates == oldFaces.end()) continue;
-        const FaceSignature signature = signatureOf(data.mesh, face);
-        for (int g : candidates->second)
-          if (signatureOf(old->mesh, old->mesh.faces()[g]) == signature) reusable[face.index] = g;
+        if (g >= 0 && keepsFaceData(data, face, *old, old->mesh.faces()[g], sameEee, *change))
+          reusable[face.index] = g;
       }
     }
     std::vector<FaceData> oldFaceData = keepMesh ? std::move(data.faces)
@@ -676,14 +708,12 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(
   }
 }
 
-bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
-                                                  const FaceData& data,
-                                                  const SegmentProximity& eeeSegments,
-                                                  std::vector<int>* compared) const {
-  const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
+std::vector<Vec3> DiscontinuityMeshEngine::cornerProbes(const ReceiverMesh& mesh,
+                                                        const MeshFace& face,
+                                                        const SegmentProximity& eeeSegments) const {
   // Events meeting at one point leave clusters of corners a few ulps apart: one check each.
   const double apart = 1e-7 * posed_->extent.diagonalLength();
-  std::vector<Vec3> checked;
+  std::vector<Vec3> checked, probes;
   for (const Polygon3& cycle : mesh.faceBoundary(face.index))
     for (const Vec3& corner : cycle) {
       if (std::any_of(checked.begin(), checked.end(),
@@ -693,19 +723,29 @@ bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, cons
       // Just inside the face near the corner; a point that falls outside it (a concave corner,
       // a sliver) proves nothing and is skipped.
       const Vec3 p = corner + (face.samplePoint - corner) * kCornerInset;
-      if (mesh.locate(p) != face.index) continue;
+      if (!mesh.isInside(p, face.index)) continue;
       // Beside an EEE polyline the labels may be those of the conic's other side (the polyline
       // stands within its tolerance of the conic); queries there are answered at the point.
       if (eeeSegments.near(p, nearEee())) continue;
-      for (size_t l = 0; l < posed_->lights.size(); ++l) {
-        const Backprojection& atSample = data.perLight[l];
-        if (!atSample.isLabelled) continue;
-        const Backprojection here =
-            backprojections_->compute(posed_->lights[l], p, receiver.plane.normal, receiver.id);
-        if (!here.isLabelled) continue;
-        if (compared) ++(*compared)[l];
-        if (!sameLabels(here, atSample, *adjacency_)) return false;
-      }
+      probes.push_back(p);
+    }
+  return probes;
+}
+
+bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face,
+                                                  const FaceData& data,
+                                                  const SegmentProximity& eeeSegments,
+                                                  std::vector<int>* compared) const {
+  const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
+  for (const Vec3& p : cornerProbes(mesh, face, eeeSegments))
+    for (size_t l = 0; l < posed_->lights.size(); ++l) {
+      const Backprojection& atSample = data.perLight[l];
+      if (!atSample.isLabelled) continue;
+      const Backprojection here =
+          backprojections_->compute(posed_->lights[l], p, receiver.plane.normal, receiver.id);
+      if (!here.isLabelled) continue;
+      if (compared) ++(*compared)[l];
+      if (!sameLabels(here, atSample, *adjacency_)) return false;
     }
   return true;
 }
@@ -802,23 +842,23 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
     return true;
   };
   if (holds(located)) return located;
-  // The faces a little off p, on either side of each nearby polyline.
-  const Vec3& normal = posed_->polygons[data.mesh.receiver()].plane.normal;
-  const double step = 2 * nearEee();
-  std::optional<int> found;
-  data.eeeSegments.forEachNear(p, nearEee(), [&](size_t index) {
-    const auto& [a, b] = data.eeeInputs[index];
-    const Vec3 across = normalize(cross(normal, b - a));
-    for (double sign : {1.0, -1.0}) {
-      const auto face = data.mesh.locate(p + across * (sign * step));
-      if (face && *face != located && holds(*face)) {
-        found = face;
-        return false;
-      }
+  // The faces reached from the located one across EEE polyline edges passing near p (breadth
+  // first, by face index): the true conics lie within the polylines' tolerance, so p's face is
+  // one of them; crossing any other event would change labels the side tests do not see.
+  const auto onlyEee = [&](const std::vector<SurfaceId>& ids) {
+    return !ids.empty() && std::all_of(ids.begin(), ids.end(), [&](SurfaceId id) {
+      return id >= SurfaceId(surfaces_.size());
+    });
+  };
+  std::vector<int> queue{located};
+  for (size_t next = 0; next < queue.size(); ++next)
+    for (const FaceCrossing& c : data.mesh.crossingsNear(queue[next], p, nearEee())) {
+      if (!onlyEee(c.surfaces) || std::find(queue.begin(), queue.end(), c.other) != queue.end())
+        continue;
+      if (holds(c.other)) return c.other;
+      queue.push_back(c.other);
     }
-    return true;
-  });
-  return found;
+  return std::nullopt;
 }
 
 bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) {

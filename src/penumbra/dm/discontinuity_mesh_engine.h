@@ -234,6 +234,10 @@ class DiscontinuityMeshEngine {
   // sample is on p's side of every such surface; nothing when no face is certain (p on a
   // surface, or no candidate agrees).
   std::optional<int> faceBySides(const ReceiverData& data, int located, const Vec3& p) const;
+  // The points just inside a face's corners where verification compares the labels with the
+  // sample's (one per cluster of corners, inside the face, away from EEE polylines).
+  std::vector<Vec3> cornerProbes(const ReceiverMesh& mesh, const MeshFace& face,
+                                 const SegmentProximity& eeeSegments) const;
   // `compared` (optional, one per light) counts the corners where the labels were compared.
   bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
                            const SegmentProximity& eeeSegments,
@@ -276,6 +280,12 @@ class DiscontinuityMeshEngine {
   // Does the change move anything (old or new bounds) through the box around `region` and a
   // light?
   bool isCrossed(const Box3& region, const SceneChange& change) const;
+  // May an update keep the data of `face` (of the receiver's new data `now`), computed for
+  // `faceBefore` (same boundary) of `before`? Yes when it would be computed again from the same
+  // inputs: the same corner probes, and no moved object's old or new bounds admitted by the cone
+  // from the sample or a probe to any light. `sameEee`: both have the same EEE polylines.
+  bool keepsFaceData(const ReceiverData& now, const MeshFace& face, const ReceiverData& before,
+                     const MeshFace& faceBefore, bool sameEee, const SceneChange& change) const;
   // The mesh and face statistics summed over the receivers.
   void tallyReceivers();
 

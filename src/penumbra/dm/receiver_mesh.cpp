@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <unordered_map>
 
 namespace penumbra {
@@ -65,6 +66,50 @@ struct ReceiverMesh::Impl {
   Vec3 worldOf(Arrangement::Vertex_const_handle v) const { return vertexWorld.at(&*v); }
   Vec2 localOf(Arrangement::Vertex_const_handle v) const { return vertexLocal.at(&*v); }
 
+  using Cycle = std::vector<Arrangement::Halfedge_const_handle>;
+  // A boundary cycle of a face as its halfedges, starting where the sequence of its vertices'
+  // rounded coordinates is lexicographically least: a function of the cycle's geometry alone, not
+  // of the order in which the arrangement was built (an update's edited mesh and one built again
+  // from the same segments list the same cycle from the same vertex).
+  Cycle canonicalCycle(Arrangement::Ccb_halfedge_const_circulator first) const {
+    Cycle cycle;
+    auto c = first;
+    do cycle.push_back(c);
+    while (++c != first);
+    const size_t n = cycle.size();
+    const auto key = [&](size_t i) {
+      const Vec2 q = localOf(cycle[i % n]->source());
+      return std::pair{q.x, q.y};
+    };
+    size_t best = 0;
+    for (size_t start = 1; start < n; ++start) {
+      if (key(start) > key(best)) continue;
+      // Equal first vertices (an antenna's base is visited twice): compare the rotations.
+      size_t k = 0;
+      while (k < n && key(start + k) == key(best + k)) ++k;
+      if (k < n && key(start + k) < key(best + k)) best = start;
+    }
+    std::rotate(cycle.begin(), cycle.begin() + std::ptrdiff_t(best), cycle.end());
+    return cycle;
+  }
+  // The face's boundary cycles, outer first, then the holes ordered by their canonical vertex
+  // sequences.
+  std::vector<Cycle> cyclesOf(Arrangement::Face_const_handle f) const {
+    std::vector<Cycle> cycles;
+    if (f->has_outer_ccb()) cycles.push_back(canonicalCycle(f->outer_ccb()));
+    const size_t holesFrom = cycles.size();
+    for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycles.push_back(canonicalCycle(*h));
+    std::sort(cycles.begin() + std::ptrdiff_t(holesFrom), cycles.end(),
+              [&](const Cycle& a, const Cycle& b) {
+                return std::lexicographical_compare(
+                    a.begin(), a.end(), b.begin(), b.end(), [&](auto x, auto y) {
+                      const Vec2 p = localOf(x->source()), q = localOf(y->source());
+                      return std::pair{p.x, p.y} < std::pair{q.x, q.y};
+                    });
+              });
+    return cycles;
+  }
+
   // A point strictly inside face f, as far from its boundary as a cheap search finds: on the
   // vertical line through the middle of every slab between consecutive distinct vertex abscissae,
   // the boundary crossings alternate in and out of the face; take the middle of the inside
@@ -74,15 +119,12 @@ struct ReceiverMesh::Impl {
   // label the big face with a neighbour's backprojection. Slab and interval are chosen in
   // floating point; the point is constructed exactly.
   std::optional<Point> interiorPoint(Arrangement::Face_const_handle f) const {
+    // In canonical order, and every sort below stable or total: the point is a function of the
+    // face's geometry alone.
     std::vector<Arrangement::Halfedge_const_handle> boundary;
-    const auto collect = [&](Arrangement::Ccb_halfedge_const_circulator first) {
-      auto c = first;
-      do {
-        if (c->twin()->face() != f) boundary.push_back(c);  // antennas bound nothing
-      } while (++c != first);
-    };
-    if (f->has_outer_ccb()) collect(f->outer_ccb());
-    for (auto h = f->holes_begin(); h != f->holes_end(); ++h) collect(*h);
+    for (const Cycle& cycle : cyclesOf(f))
+      for (auto h : cycle)
+        if (h->twin()->face() != f) boundary.push_back(h);  // antennas bound nothing
     if (boundary.empty()) return std::nullopt;
     // The vertices' rounded coordinates (indexFaces): the search runs on them, only the chosen
     // point is constructed exactly.
@@ -96,7 +138,8 @@ struct ReceiverMesh::Impl {
       sides.push_back({a.x, a.y, b.x, b.y});
       xs.push_back({sides.back().ax, h->source()});
     }
-    std::sort(xs.begin(), xs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::stable_sort(xs.begin(), xs.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
     xs.erase(std::unique(xs.begin(), xs.end(),
                          [](const auto& a, const auto& b) { return a.first == b.first; }),
              xs.end());
@@ -120,7 +163,7 @@ struct ReceiverMesh::Impl {
     for (size_t k = 0; k < slabs.size(); ++k) slabs[k] = k;
     const auto width = [&](size_t k) { return xs[k + 1].first - xs[k].first; };
     if (slabs.size() > 64) {
-      std::nth_element(slabs.begin(), slabs.begin() + 64, slabs.end(),
+      std::stable_sort(slabs.begin(), slabs.end(),
                        [&](size_t a, size_t b) { return width(a) > width(b); });
       slabs.resize(64);
     }
@@ -130,8 +173,8 @@ struct ReceiverMesh::Impl {
       for (size_t i = 0; i + 1 < ys.size(); i += 2)
         candidates.push_back({std::min(ys[i + 1] - ys[i], width(k)), k, i});
     }
-    std::sort(candidates.begin(), candidates.end(),
-              [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     // The sample is used as a double 3D point: it must locate, rounded like a query, in f itself.
     std::optional<Point> fallback;
     for (size_t c = 0; c < candidates.size() && c < 8; ++c) {
@@ -173,22 +216,38 @@ struct ReceiverMesh::Impl {
       if (!inside) continue;
       const Vec3 sample = toWorld(*inside);
       if (!containsPoint(outline, frame.toLocal(sample))) continue;
+      // Summed over the canonical cycles: floating-point sums depend on their order.
       double twiceArea = 0;
-      const auto ccbArea = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+      for (const Cycle& cycle : cyclesOf(f)) {
         double sum = 0;
-        auto c = first;
-        do {
-          const Vec2 a = localOf(c->source()), b = localOf(c->target());
+        for (auto h : cycle) {
+          const Vec2 a = localOf(h->source()), b = localOf(h->target());
           sum += a.x * b.y - b.x * a.y;
-        } while (++c != first);
-        return sum;
-      };
-      twiceArea += ccbArea(f->outer_ccb());
-      for (auto h = f->holes_begin(); h != f->holes_end(); ++h) twiceArea += ccbArea(*h);
-      f->set_data(int(faces.size()));
-      faces.push_back({int(faces.size()), sample, twiceArea / 2});
+        }
+        twiceArea += sum;
+      }
+      faces.push_back({0, sample, twiceArea / 2});
       faceHandles.push_back(f);
     }
+    // Indexed in the order of their sample points: distinct faces have distinct samples (each
+    // strictly inside its face), so the order is the geometry's, not the arrangement's history.
+    std::vector<size_t> order(faces.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    const auto sampleKey = [&](size_t k) {
+      const Vec3& q = faces[k].samplePoint;
+      return std::array<double, 3>{q.x, q.y, q.z};
+    };
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return sampleKey(a) < sampleKey(b); });
+    std::vector<MeshFace> sortedFaces;
+    std::vector<Arrangement::Face_const_handle> sortedHandles;
+    for (size_t k : order) {
+      sortedFaces.push_back({int(sortedFaces.size()), faces[k].samplePoint, faces[k].area});
+      sortedHandles.push_back(faceHandles[k]);
+      arrangement.non_const_handle(faceHandles[k])->set_data(int(sortedHandles.size()) - 1);
+    }
+    faces = std::move(sortedFaces);
+    faceHandles = std::move(sortedHandles);
   }
 };
 
@@ -384,23 +443,34 @@ const std::vector<MeshFace>& ReceiverMesh::faces() const {
   return impl_->faces;
 }
 
+bool ReceiverMesh::isInside(const Vec3& p, int face) const {
+  const auto result = impl_->locator.locate(impl_->toPoint(p));
+  const auto* f = boost::get<Arrangement::Face_const_handle>(&result);
+  return f && (*f)->data() == face;
+}
+
 std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
   const auto result = impl_->locator.locate(impl_->toPoint(p));
   Arrangement::Face_const_handle face;
   if (const auto* f = boost::get<Arrangement::Face_const_handle>(&result)) {
     face = *f;
   } else if (const auto* h = boost::get<Arrangement::Halfedge_const_handle>(&result)) {
-    face = (*h)->face()->data() >= 0 ? (*h)->face() : (*h)->twin()->face();
+    // On an edge: the inside face of lower index (which halfedge of the pair the locator returns
+    // depends on the arrangement's history).
+    const int left = (*h)->face()->data(), right = (*h)->twin()->face()->data();
+    if (left < 0 && right < 0) return std::nullopt;
+    if (left < 0 || right < 0) return std::max(left, right);
+    return std::min(left, right);
   } else if (const auto* v = boost::get<Arrangement::Vertex_const_handle>(&result)) {
+    // On a vertex: the inside face of lowest index around it.
+    std::optional<int> lowest;
     auto c = (*v)->incident_halfedges();
     const auto first = c;
-    face = c->face();
     do {
-      if (c->face()->data() >= 0) {
-        face = c->face();
-        break;
-      }
+      const int index = c->face()->data();
+      if (index >= 0 && (!lowest || index < *lowest)) lowest = index;
     } while (++c != first);
+    return lowest;
   } else {
     return std::nullopt;
   }
@@ -424,9 +494,17 @@ std::vector<SurfaceId> sortedSurfaces(const Traits::Data_container& data) {
 std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> ReceiverMesh::edges() const {
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> out;
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
-    out.push_back({{impl_->worldOf(e->source()), impl_->worldOf(e->target())},
-                   sortedSurfaces(e->curve().data())});
+    Vec3 a = impl_->worldOf(e->source()), b = impl_->worldOf(e->target());
+    if (std::tie(b.x, b.y, b.z) < std::tie(a.x, a.y, a.z)) std::swap(a, b);
+    out.push_back({{a, b}, sortedSurfaces(e->curve().data())});
   }
+  // Sorted by geometry: the arrangement's edge list is in the order of its history.
+  std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) {
+    const auto& [p, q] = x.first;
+    const auto& [r, t] = y.first;
+    return std::tie(p.x, p.y, p.z, q.x, q.y, q.z, x.second) <
+           std::tie(r.x, r.y, r.z, t.x, t.y, t.z, y.second);
+  });
   return out;
 }
 
@@ -434,36 +512,30 @@ std::vector<Vec3> ReceiverMesh::vertexPositions() const {
   std::vector<Vec3> out;
   for (auto v = impl_->arrangement.vertices_begin(); v != impl_->arrangement.vertices_end(); ++v)
     out.push_back(impl_->worldOf(v));
+  std::sort(out.begin(), out.end(), [](const Vec3& a, const Vec3& b) {
+    return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+  });
   return out;
 }
 
 std::vector<Polygon3> ReceiverMesh::faceBoundary(int face) const {
   std::vector<Polygon3> cycles;
-  const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
-  const auto cycle = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+  for (const Impl::Cycle& cycle : impl_->cyclesOf(impl_->faceHandles.at(face))) {
     Polygon3 out;
-    auto c = first;
-    do out.push_back(impl_->worldOf(c->source()));
-    while (++c != first);
+    out.reserve(cycle.size());
+    for (auto h : cycle) out.push_back(impl_->worldOf(h->source()));
     cycles.push_back(std::move(out));
-  };
-  if (f->has_outer_ccb()) cycle(f->outer_ccb());
-  for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycle(*h);
+  }
   return cycles;
 }
 
 std::vector<std::pair<Vec3, Vec3>> ReceiverMesh::faceBoundarySegments(int face) const {
   std::vector<std::pair<Vec3, Vec3>> segments;
   const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
-  const auto cycle = [&](Arrangement::Ccb_halfedge_const_circulator first) {
-    auto c = first;
-    do
-      if (c->twin()->face() != f)  // antennas separate the face from itself
-        segments.push_back({impl_->worldOf(c->source()), impl_->worldOf(c->target())});
-    while (++c != first);
-  };
-  if (f->has_outer_ccb()) cycle(f->outer_ccb());
-  for (auto h = f->holes_begin(); h != f->holes_end(); ++h) cycle(*h);
+  for (const Impl::Cycle& cycle : impl_->cyclesOf(f))
+    for (auto h : cycle)
+      if (h->twin()->face() != f)  // antennas separate the face from itself
+        segments.push_back({impl_->worldOf(h->source()), impl_->worldOf(h->target())});
   return segments;
 }
 
@@ -472,8 +544,36 @@ std::vector<FaceCrossing> ReceiverMesh::faceCrossings() const {
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
     const int left = e->face()->data(), right = e->twin()->face()->data();
     if (left < 0 || right < 0 || left == right) continue;
-    crossings.push_back({left, right, sortedSurfaces(e->curve().data())});
+    crossings.push_back(
+        {std::min(left, right), std::max(left, right), sortedSurfaces(e->curve().data())});
   }
+  // In the order of the faces (canonical), not of the arrangement's edge list.
+  std::sort(crossings.begin(), crossings.end(), [](const FaceCrossing& a, const FaceCrossing& b) {
+    return std::tie(a.face, a.other, a.surfaces) < std::tie(b.face, b.other, b.surfaces);
+  });
+  return crossings;
+}
+
+std::vector<FaceCrossing> ReceiverMesh::crossingsNear(int face, const Vec3& p,
+                                                      double radius) const {
+  std::vector<FaceCrossing> crossings;
+  const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
+  const Vec2 q = impl_->frame.toLocal(p);
+  for (const Impl::Cycle& cycle : impl_->cyclesOf(f))
+    for (auto h : cycle) {
+      const int other = h->twin()->face()->data();
+      if (other < 0 || other == face) continue;
+      const Vec2 a = impl_->localOf(h->source()), b = impl_->localOf(h->target());
+      const Vec2 ab = b - a;
+      const double length2 = dot(ab, ab);
+      const double t = length2 > 0 ? std::clamp(dot(q - a, ab) / length2, 0.0, 1.0) : 0.0;
+      const Vec2 off = q - (a + ab * t);
+      if (std::sqrt(dot(off, off)) > radius) continue;
+      crossings.push_back({face, other, sortedSurfaces(h->curve().data())});
+    }
+  std::sort(crossings.begin(), crossings.end(), [](const FaceCrossing& a, const FaceCrossing& b) {
+    return std::tie(a.other, a.surfaces) < std::tie(b.other, b.surfaces);
+  });
   return crossings;
 }
 

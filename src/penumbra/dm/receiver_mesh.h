@@ -57,22 +57,30 @@ class ReceiverMesh {
 
   int vertexCount() const;
   int edgeCount() const;
-  // Faces inside the receiver, indexed 0..n-1 in a stable order until the next edit.
+  // Faces inside the receiver, indexed 0..n-1 in the order of their sample points: the same
+  // indices for the same geometry, however the arrangement was built or edited.
   const std::vector<MeshFace>& faces() const;
-  // The face containing p (p on the receiver's plane); a point on an edge or vertex gets one of
-  // the faces around it. Nothing when p is outside the receiver.
+  // The face containing p (p on the receiver's plane); a point on an edge or vertex gets the
+  // inside face of lowest index around it. Nothing when p is outside the receiver.
   std::optional<int> locate(const Vec3& p) const;
+  // Does p lie strictly inside the face (not on its boundary)? A function of the face's geometry
+  // alone.
+  bool isInside(const Vec3& p, int face) const;
   // Every edge as a 3D segment with its surfaces, sorted (for drawing and statistics).
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> edges() const;
   std::vector<Vec3> vertexPositions() const;
   // The boundary cycles of a face (outer first, then holes), vertices in order, antennas
-  // included (for drawing, triangulation and diagnostics).
+  // included (for drawing, triangulation and diagnostics). Canonical: each cycle starts at its
+  // lexicographically least vertex sequence, holes in the order of those sequences.
   std::vector<Polygon3> faceBoundary(int face) const;
   // The edges that separate a face from other faces (antennas left out), as 3D segments.
   std::vector<std::pair<Vec3, Vec3>> faceBoundarySegments(int face) const;
   // Every edge separating two different inside faces (face adjacency for propagating per-face
   // data; antennas and the outline left out).
   std::vector<FaceCrossing> faceCrossings() const;
+  // The edges of `face` within `radius` of p that separate it from another inside face, each as
+  // a crossing from `face` (in the order of the other face's index).
+  std::vector<FaceCrossing> crossingsNear(int face, const Vec3& p, double radius) const;
   // The receiver's plane frame, in which the mesh is built.
   const PlaneFrame& frame() const;
   size_t memoryBytes() const;

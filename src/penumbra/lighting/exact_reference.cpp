@@ -142,49 +142,72 @@ double ExactReference::visibleFormFactor(const Vec3& p, const Vec3& n, const Pol
   return formFactor;
 }
 
-template <typename ForEachCandidate>
-VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const Polygon3& source,
-                                           const Plane& lightPlane, PolygonId lightId,
-                                           std::optional<PolygonId> receiver,
-                                           ForEachCandidate&& forEachCandidate) const {
-  VisibleLight result;
-  const double pointHeight = lightPlane.signedDistance(p);
-  if (pointHeight <= 0) return result;  // lights emit from their front side only
-  const Polygon3 lit = clipByPlane(source, Plane{n, dot(n, p)});
-  if (lit.empty()) return result;
+std::optional<ExactReference::Cone> ExactReference::coneOf(const Vec3& p, const Vec3& n,
+                                                           const Polygon3& source,
+                                                           const Plane& lightPlane) const {
+  Cone cone;
+  cone.pointHeight = lightPlane.signedDistance(p);
+  if (cone.pointHeight <= 0) return std::nullopt;  // lights emit from their front side only
+  cone.lit = clipByPlane(source, Plane{n, dot(n, p)});
+  if (cone.lit.empty()) return std::nullopt;
 
-  const PlaneFrame frame = PlaneFrame::fromPlane(lightPlane, centroid(source));
-  Polygon2 lit2;
-  for (const Vec3& x : lit) lit2.push_back(frame.toLocal(x));
-  double extent = 0;
-  for (const Vec2& q : lit2) extent = std::max({extent, std::abs(q.x), std::abs(q.y)});
-  const double scale = kClipperExtent / extent;
-  const auto toInt = [scale](const Vec2& q) {
-    return ClipperLib::IntPoint(ClipperLib::cInt(std::llround(q.x * scale)),
-                                ClipperLib::cInt(std::llround(q.y * scale)));
-  };
+  cone.frame = PlaneFrame::fromPlane(lightPlane, centroid(source));
+  for (const Vec3& x : cone.lit) cone.lit2.push_back(cone.frame.toLocal(x));
+  for (const Vec2& q : cone.lit2)
+    cone.extent = std::max({cone.extent, std::abs(q.x), std::abs(q.y)});
 
   // The cone from p through the convex hull of the lit light: every point of it but the apex p is
   // strictly closer to the light plane than p, so an occluder clipped to it projects to a finite
   // place inside the hull (p itself lies on no considered occluder: those are skipped as coplanar).
   // The hull is enlarged by kConeMargin so that the cut lines of occluders lie outside the light:
   // a cut running along a light edge would leave slivers one integer unit wide in the result.
-  Polygon2 hull = convexHull(lit2);
-  Vec2 hullCenter2;
-  for (const Vec2& h : hull) hullCenter2 = hullCenter2 + h * (1.0 / double(hull.size()));
-  for (Vec2& h : hull) h = hullCenter2 + (h - hullCenter2) * (1 + kConeMargin);
-  std::vector<Plane> cone;
-  const Vec3 hullCenter = frame.toWorld(hullCenter2);
+  Polygon2 hull = convexHull(cone.lit2);
+  for (const Vec2& h : hull) cone.hullCenter2 = cone.hullCenter2 + h * (1.0 / double(hull.size()));
+  for (Vec2& h : hull) h = cone.hullCenter2 + (h - cone.hullCenter2) * (1 + kConeMargin);
+  const Vec3 hullCenter = cone.frame.toWorld(cone.hullCenter2);
   for (size_t i = 0; i < hull.size(); ++i) {
-    const Vec3 a = frame.toWorld(hull[i]), b = frame.toWorld(hull[(i + 1) % hull.size()]);
+    const Vec3 a = cone.frame.toWorld(hull[i]), b = cone.frame.toWorld(hull[(i + 1) % hull.size()]);
     Vec3 normal = cross(a - p, b - p);
     if (dot(normal, hullCenter - p) < 0) normal = -normal;
-    cone.push_back(Plane{normal, dot(normal, p)});  // unnormalized: only signs matter to clipping
+    cone.planes.push_back(Plane{normal, dot(normal, p)});  // unnormalized: only signs matter
   }
-  cone.push_back(lightPlane);  // only what lies on p's side of the light can hide it
+  cone.planes.push_back(lightPlane);  // only what lies on p's side of the light can hide it
+  cone.bounds = boundingBox(cone.lit);
+  cone.bounds.extend(p);
+  return cone;
+}
 
-  Box3 shaft = boundingBox(lit);
-  shaft.extend(p);
+bool ExactReference::mayOcclude(const Vec3& p, const Vec3& n, PolygonId light,
+                                const Box3& box) const {
+  const WorldPolygon& source = scene_.polygons[light];
+  const auto cone = coneOf(p, n, source.vertices, source.plane);
+  // The test forEachCandidateOccluder applies to a polygon's bounds: a polygon inside `box`
+  // passes it only if the box does (each part of it is monotone in the box).
+  return cone && box.overlaps(cone->bounds) && !isBoxOutsideAny(box, cone->planes);
+}
+
+template <typename ForEachCandidate>
+VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const Polygon3& source,
+                                           const Plane& lightPlane, PolygonId lightId,
+                                           std::optional<PolygonId> receiver,
+                                           ForEachCandidate&& forEachCandidate) const {
+  VisibleLight result;
+  const auto coneFound = coneOf(p, n, source, lightPlane);
+  if (!coneFound) return result;
+  const Cone& coneData = *coneFound;
+  const Polygon3& lit = coneData.lit;
+  const PlaneFrame& frame = coneData.frame;
+  const Polygon2& lit2 = coneData.lit2;
+  const double extent = coneData.extent;
+  const double pointHeight = coneData.pointHeight;
+  const Vec2& hullCenter2 = coneData.hullCenter2;
+  const std::vector<Plane>& cone = coneData.planes;
+  const Box3& shaft = coneData.bounds;
+  const double scale = kClipperExtent / extent;
+  const auto toInt = [scale](const Vec2& q) {
+    return ClipperLib::IntPoint(ClipperLib::cInt(std::llround(q.x * scale)),
+                                ClipperLib::cInt(std::llround(q.y * scale)));
+  };
   const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.extent.diagonalLength();
 
   ClipperLib::Paths occluders;

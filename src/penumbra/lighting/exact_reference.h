@@ -59,8 +59,28 @@ class ExactReference {
                            std::optional<PolygonId> receiver = {}) const;
   // Unoccluded form factor of the whole light (clipped to p's front half-space).
   double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
+  // May a polygon lying inside `box` enter the boolean operation of visibleLight(p, n, light)?
+  // False guarantees that no polygon inside the box is even considered there, so moving such a
+  // polygon within boxes for which this is false leaves visibleLight's result unchanged bit for bit
+  // (what the discontinuity mesh's update relies on to keep a face's backprojections).
+  bool mayOcclude(const Vec3& p, const Vec3& n, PolygonId light, const Box3& box) const;
 
  private:
+  // The clipping cone from p to the part of a light in front of p (nothing when no part is):
+  // the lit light, its frame, the cone's planes (its sides through the enlarged hull, then the
+  // light's plane) and the bounds of the lit light and p.
+  struct Cone {
+    double pointHeight = 0;
+    Polygon3 lit;
+    PlaneFrame frame;
+    Polygon2 lit2;
+    double extent = 0;
+    Vec2 hullCenter2;
+    std::vector<Plane> planes;
+    Box3 bounds;
+  };
+  std::optional<Cone> coneOf(const Vec3& p, const Vec3& n, const Polygon3& source,
+                             const Plane& lightPlane) const;
   // Calls visit(polygon) once for every polygon that may lie in the shaft (bounds overlap
   // `shaftBounds` and are not entirely outside one of `shaftPlanes`).
   template <typename Visit>
