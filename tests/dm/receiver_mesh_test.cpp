@@ -46,12 +46,77 @@ TEST(ReceiverMesh, InsertSplitsAndRemoveRestoresLocally) {
   int sharedEdges = 0;
   for (const auto& [segment, surfaces] : mesh.edges()) sharedEdges += surfaces.size() == 2 ? 1 : 0;
   EXPECT_EQ(sharedEdges, 1);  // the half where surfaces 7 and 8 overlap
-  mesh.removeSurface(7);      // the overlapping half stays (surface 8), the split remains
+  // Surface 7 removed: the overlapping half stays (surface 8) and the diagonal's lower half goes;
+  // the vertex where 8 began is no longer an end of anything and goes with it.
+  mesh.update({{8, 0, {0.5, 0.5, 0}, {1, 1, 0}, 0, 1}, {9, 0, {0.2, 0.8, 0}, {0.4, 0.6, 0}, 0, 1}});
   EXPECT_EQ(mesh.faces().size(), 1u);
-  mesh.removeSurface(8);
-  mesh.removeSurface(9);
+  mesh.update({});
+  EXPECT_EQ(mesh.vertexCount(), 4);
   EXPECT_EQ(mesh.edgeCount(), 4);
   EXPECT_EQ(mesh.faces().size(), 1u);
+}
+
+// Everything a mesh answers, for comparing an updated mesh with one built from scratch.
+void expectSameMesh(const ReceiverMesh& a, const ReceiverMesh& b) {
+  ASSERT_EQ(a.vertexCount(), b.vertexCount());
+  ASSERT_EQ(a.edgeCount(), b.edgeCount());
+  ASSERT_EQ(a.faces().size(), b.faces().size());
+  EXPECT_EQ(a.vertexPositions(), b.vertexPositions());
+  EXPECT_EQ(a.edges(), b.edges());
+  for (size_t f = 0; f < a.faces().size(); ++f) {
+    EXPECT_EQ(a.faces()[f].samplePoint, b.faces()[f].samplePoint) << "face " << f;
+    EXPECT_EQ(a.faces()[f].area, b.faces()[f].area) << "face " << f;
+    EXPECT_EQ(a.faceBoundary(int(f)), b.faceBoundary(int(f))) << "face " << f;
+  }
+}
+
+// An update is a local edit that must leave exactly the mesh a fresh build gives: random segment
+// sets where some segments stay (under new surface ids), some go and some come, including
+// overlapping collinear pieces, pieces ending on others, polylines and nearly collinear pairs
+// that snapping joins.
+TEST(ReceiverMesh, UpdateEqualsBuildingAgain) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  std::uniform_int_distribution<int> coin(0, 3);
+  const auto randomSegment = [&](SurfaceId id) -> DiscontinuitySegment {
+    return {id, 0, {u(rng), u(rng), 0}, {u(rng), u(rng), 0}, 0, 1};
+  };
+  std::vector<DiscontinuitySegment> segments;
+  for (int i = 0; i < 80; ++i) segments.push_back(randomSegment(i));
+  // Collinear overlaps, a piece ending inside another, a polyline, a twin a few ulps off.
+  segments.push_back({100, 0, {0.1, 0.1, 0}, {0.6, 0.6, 0}, 0, 1});
+  segments.push_back({101, 0, {0.3, 0.3, 0}, {0.9, 0.9, 0}, 0, 1});
+  segments.push_back({102, 0, {0.45, 0.2, 0}, {0.45, 0.45, 0}, 0, 1});
+  segments.push_back({103, 0, {0.1, 0.8, 0}, {0.3, 0.85, 0}, 0, 1});
+  segments.push_back({103, 0, {0.3, 0.85, 0}, {0.5, 0.8, 0}, 0, 1});
+  segments.push_back({104, 0, {0, 0.37, 0}, {1, 0.71, 0}, 0, 1});
+  segments.push_back({105, 0, {0, 0.37 + 4e-16, 0}, {1, 0.71 - 4e-16, 0}, 0, 1});
+  ReceiverMesh updated(unitSquareReceiver());
+  updated.insert(segments, 1e-12);
+  int kept = 0;
+  for (int step = 0; step < 12; ++step) {
+    std::vector<DiscontinuitySegment> next;
+    SurfaceId id = 1000 * (step + 1);  // every surface renumbered, as an update does
+    for (const DiscontinuitySegment& s : segments)
+      if (coin(rng) != 0) {
+        next.push_back(s);
+        next.back().surface = id++;
+      }
+    for (int i = 0; i < 10; ++i) next.push_back(randomSegment(id++));
+    std::shuffle(next.begin(), next.end(), rng);
+    ReceiverMesh::UpdateStats stats;
+    const std::vector<int> previous = updated.update(next, 1e-12, &stats);
+    ReceiverMesh fresh(unitSquareReceiver());
+    fresh.insert(next, 1e-12);
+    SCOPED_TRACE("step " + std::to_string(step));
+    expectSameMesh(updated, fresh);
+    EXPECT_GT(stats.removedSurfaces, 0);
+    EXPECT_GT(stats.insertedSurfaces, 0);
+    ASSERT_EQ(previous.size(), updated.faces().size());
+    for (int p : previous) kept += p >= 0 ? 1 : 0;
+    segments = next;
+  }
+  EXPECT_GT(kept, 0);  // faces the edits left whole are recognised as such
 }
 
 // One event computed twice (coplanar fans), a few ulps apart: inserted as they are they leave a
@@ -104,7 +169,9 @@ TEST(ReceiverMesh, RandomSegmentsKeepAreaAndLocateEverySample) {
     EXPECT_GT(f.area, 0);
     EXPECT_EQ(mesh.locate(f.samplePoint), f.index);
   }
-  for (int i = 0; i < 60; i += 2) mesh.removeSurface(i);
+  std::vector<DiscontinuitySegment> half;
+  for (int i = 1; i < 60; i += 2) half.push_back(segments[size_t(i)]);
+  mesh.update(half);
   EXPECT_NEAR(totalArea(mesh), 1.0, 1e-12);
   for (const MeshFace& f : mesh.faces()) EXPECT_EQ(mesh.locate(f.samplePoint), f.index);
 }

@@ -156,19 +156,6 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
   return true;
 }
 
-// A face's identity across two meshes of one receiver: its sample point and area (both functions
-// of its boundary alone) and its boundary, canonical (ReceiverMesh::faceBoundary).
-struct FaceSignature {
-  std::array<double, 4> sampleAndArea;
-  std::vector<Polygon3> boundary;
-  bool operator==(const FaceSignature&) const = default;
-};
-
-FaceSignature signatureOf(const ReceiverMesh& mesh, const MeshFace& face) {
-  return {{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area},
-          mesh.faceBoundary(face.index)};
-}
-
 Box3 faceBounds(const ReceiverMesh& mesh, int face) {
   Box3 box;
   for (const Polygon3& cycle : mesh.faceBoundary(face))
@@ -179,9 +166,9 @@ Box3 faceBounds(const ReceiverMesh& mesh, int face) {
 }  // namespace
 
 bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshFace& face,
-                                            const ReceiverData& before, const MeshFace& faceBefore,
-                                            bool sameEee, const SceneChange& change) const {
-  // The face's data is computed from its boundary (here the same, canonical), its sample, and its
+                                            const SegmentProximity& eeeBefore, bool sameEee,
+                                            const SceneChange& change) const {
+  // The face's data is computed from its boundary (here the same vertices), its sample, and its
   // corner probes (labelsHoldAtCorners): a backprojection per light at each, which reads only the
   // polygons its cone admits (ExactReference::mayOcclude). The probes are the points just inside
   // its corners that lie strictly inside it (a function of its geometry) and away from EEE
@@ -192,11 +179,10 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
       insets.push_back(corner + (face.samplePoint - corner) * kCornerInset);
   if (!sameEee) {
     const double near = nearEee();
-    if (now.eeeSegments.near(face.samplePoint, near) !=
-        before.eeeSegments.near(faceBefore.samplePoint, near))
+    if (now.eeeSegments.near(face.samplePoint, near) != eeeBefore.near(face.samplePoint, near))
       return false;
     for (const Vec3& p : insets)
-      if (now.eeeSegments.near(p, near) != before.eeeSegments.near(p, near)) return false;
+      if (now.eeeSegments.near(p, near) != eeeBefore.near(p, near)) return false;
   }
   // Nothing moved (old or new bounds) through the box around the face and the lights: no cone
   // can admit a moved polygon. Else the cones themselves, from the sample and every inset point
@@ -483,59 +469,61 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     std::vector<std::pair<Vec3, Vec3>>& eee = eeeOnReceiver[receiver.id];
 
     // An update keeps what a full computation would compute again: a receiver's mesh where it
-    // would be built from the same segments in the same order (and the same EEE polylines), and a
-    // face's backprojections and verification where the face has the same boundary and nothing
-    // moved through the box between it and a light (old or new bounds).
-    const ReceiverData* before = nullptr;
-    if (change) {
-      const auto old = previous.find(receiver.id);
-      if (old != previous.end()) before = &old->second;
-    }
+    // would be built from the same segments in the same order (and the same EEE polylines), or
+    // else edits it locally into exactly the mesh those segments build (ReceiverMesh::update);
+    // and a face's backprojections and verification where the face kept its boundary and
+    // nothing moved into the cones they read (keepsFaceData).
+    const auto beforeIt = change ? previous.find(receiver.id) : previous.end();
+    ReceiverData* before = beforeIt != previous.end() ? &beforeIt->second : nullptr;
     std::map<SurfaceId, SurfaceId> renamed;
     const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
     const bool keepMesh = before && !moved && before->eeeInputs == eee &&
                           sameSegmentGeometry(before->inputs, segments, renamed);
+    const bool editMesh = before && !moved && !keepMesh;
+    const bool sameEee = before && before->eeeInputs == eee;
+    const double snap = kSegmentSnap * scene.extent.diagonalLength();
     ReceiverData data =
-        keepMesh ? std::move(previous.at(receiver.id))
-                 : ReceiverData{ReceiverMesh(receiver), {}, SegmentProximity(eee), {}, eee, {}};
+        keepMesh ? std::move(*before)
+                 : ReceiverData{editMesh ? std::move(before->mesh) : ReceiverMesh(receiver),
+                                {},
+                                SegmentProximity(eee),
+                                {},
+                                eee,
+                                {}};
+    SegmentProximity eeeBefore;
+    std::vector<FaceData> oldFaceData;
+    std::vector<int> previousFace;  // each face's index in the frame before, or -1
+    if (keepMesh) {
+      data.mesh.renumberSurfaces(renamed);
+      oldFaceData = std::move(data.faces);
+      for (const MeshFace& face : data.mesh.faces()) previousFace.push_back(face.index);
+      ++stats_.keptMeshes;
+    } else if (editMesh) {
+      eeeBefore = std::move(before->eeeSegments);
+      oldFaceData = std::move(before->faces);
+      ReceiverMesh::UpdateStats edit;
+      previousFace = data.mesh.update(segments, snap, &edit);
+      stats_.removedSurfaces += edit.removedSurfaces;
+      stats_.insertedSurfaces += edit.insertedSurfaces;
+      ++stats_.editedMeshes;
+    } else {
+      data.mesh.insert(segments, snap);
+      previousFace.assign(data.mesh.faces().size(), -1);
+      ++stats_.rebuiltMeshes;
+    }
     // The polylines' surfaces by this computation's numbering (a kept mesh has the same
     // polylines, maybe under other ids).
     data.eeeSurfaceIds = eeeSurfacesOnReceiver[receiver.id];
-    if (keepMesh) {
-      data.mesh.renumberSurfaces(renamed);
-      ++stats_.keptMeshes;
-    } else {
-      data.mesh.insert(segments, kSegmentSnap * scene.extent.diagonalLength());
-      ++stats_.rebuiltMeshes;
-    }
     data.inputs = std::move(segments);
     // Faces whose data can be taken from the frame before, by their index there.
     std::vector<int> reusable(data.mesh.faces().size(), -1);
-    const ReceiverData* old = keepMesh ? &data : before;
-    if (old && !moved && !change->movesLight()) {
-      const bool sameEee = old->eeeInputs == eee;
-      std::map<std::array<double, 4>, std::vector<int>> oldFaces;
-      if (!keepMesh)
-        for (const MeshFace& face : old->mesh.faces())
-          oldFaces[{face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area}]
-              .push_back(face.index);
+    if ((keepMesh || editMesh) && !change->movesLight())
       for (const MeshFace& face : data.mesh.faces()) {
-        int g = keepMesh ? face.index : -1;
-        if (!keepMesh) {
-          const auto candidates = oldFaces.find(
-              {face.samplePoint.x, face.samplePoint.y, face.samplePoint.z, face.area});
-          if (candidates == oldFaces.end()) continue;
-          const FaceSignature signature = signatureOf(data.mesh, face);
-          for (int c : candidates->second)
-            if (signatureOf(old->mesh, old->mesh.faces()[c]) == signature) g = c;
-        }
-        if (g >= 0 && keepsFaceData(data, face, *old, old->mesh.faces()[g], sameEee, *change))
+        const int g = previousFace[face.index];
+        if (g >= 0 &&
+            keepsFaceData(data, face, keepMesh ? data.eeeSegments : eeeBefore, sameEee, *change))
           reusable[face.index] = g;
       }
-    }
-    std::vector<FaceData> oldFaceData = keepMesh ? std::move(data.faces)
-                                        : before ? before->faces
-                                                 : std::vector<FaceData>{};
     const auto backprojecting = Clock::now();
     computeFaceBackprojections(receiver.id, data, sliver, [&](int face) -> const FaceData* {
       return reusable[face] >= 0 ? &oldFaceData[reusable[face]] : nullptr;

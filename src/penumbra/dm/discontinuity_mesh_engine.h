@@ -36,10 +36,13 @@ struct DmStats {
   // whether it recomputed everything.
   int movedObjects = 0;
   bool recomputedAll = true;
-  // Receiver meshes kept (same segments) and rebuilt; faces whose backprojections and
-  // verification were kept (same boundary, nothing moved between them and a light) and
-  // recomputed: what an update's cost follows.
+  // Receiver meshes kept (same segments) and built from scratch (new, or moved); faces whose
+  // backprojections and verification were kept (same boundary, no moved bounds in their cones)
+  // and recomputed: what an update's cost follows.
   long long keptMeshes = 0, rebuiltMeshes = 0, reusedFaces = 0, recomputedFaces = 0;
+  // Receiver meshes an update edited locally (ReceiverMesh::update), and the surfaces whose edges
+  // those edits removed and inserted.
+  long long editedMeshes = 0, removedSurfaces = 0, insertedSurfaces = 0;
   // Planar surfaces whose cast (cells and stored intersections) was kept: the same fan as before,
   // and no moved object's old or new bounds in any of its cells.
   long long keptCasts = 0;
@@ -129,13 +132,16 @@ class DiscontinuityMeshEngine {
   // use of it: the engine reads its posed scene and grid).
   void build(const DynamicScene& scene);
   // Brings the solution to the scene's new pose after `change` was applied to it (the scene built
-  // from). Every discontinuity surface is enumerated, cast and clipped again; then each receiver
-  // whose segments are the same as before, in the same order, and through whose box towards each
-  // light nothing moved (old or new bounds) keeps its mesh, faces, backprojections and
-  // verification; the others are meshed and backprojected again. What is kept is what a full
-  // computation would compute again from the same inputs, so the result is identical to build()
-  // (`shadows --mode verify`). The paper's local update of the surfaces themselves (motion
-  // volume, per-cell surface lists, local edge deletion) is issue 7's next step.
+  // from). Every discontinuity surface is enumerated again; a planar surface keeps its cast and
+  // an EEE surface its traced lines where no moved bounds (old or new) lie in their grid cells.
+  // A receiver whose segments are the same as before keeps its mesh; another (that did not move
+  // itself) has its mesh edited locally into exactly the mesh its segments build
+  // (ReceiverMesh::update: the surfaces that changed removed and inserted). A face that kept its
+  // boundary keeps its backprojections and verification unless a moved object's old or new
+  // bounds pass the occluder test of a cone they were computed with (keepsFaceData). What is
+  // kept is what a full computation would compute again from the same inputs, and meshes are
+  // canonical, so the result is identical to build() (`shadows --mode verify`). Still global:
+  // enumerating the surfaces and the per-receiver segment lists (issue 16's next steps).
   void update(const DynamicScene& scene, const SceneChange& change);
   // Conveniences that own a live scene of their own: keyframe pose `frame`, or a static posed
   // scene (tests, tools).
@@ -280,12 +286,14 @@ class DiscontinuityMeshEngine {
   // Does the change move anything (old or new bounds) through the box around `region` and a
   // light?
   bool isCrossed(const Box3& region, const SceneChange& change) const;
-  // May an update keep the data of `face` (of the receiver's new data `now`), computed for
-  // `faceBefore` (same boundary) of `before`? Yes when it would be computed again from the same
-  // inputs: the same corner probes, and no moved object's old or new bounds admitted by the cone
-  // from the sample or a probe to any light. `sameEee`: both have the same EEE polylines.
-  bool keepsFaceData(const ReceiverData& now, const MeshFace& face, const ReceiverData& before,
-                     const MeshFace& faceBefore, bool sameEee, const SceneChange& change) const;
+  // May an update keep the data of `face` (of the receiver's new data `now`), computed in the
+  // frame before for a face with the same boundary vertices (whose receiver had the EEE
+  // polylines `eeeBefore`: `sameEee` when they are now's)? Yes when it would be computed again
+  // from the same inputs: the same corner probes, and no moved object's old or new bounds
+  // admitted by the cone from the sample or a probe to any light.
+  bool keepsFaceData(const ReceiverData& now, const MeshFace& face,
+                     const SegmentProximity& eeeBefore, bool sameEee,
+                     const SceneChange& change) const;
   // The mesh and face statistics summed over the receivers.
   void tallyReceivers();
 

@@ -4,13 +4,16 @@
 #include <CGAL/Arr_extended_dcel.h>
 #include <CGAL/Arr_landmarks_point_location.h>
 #include <CGAL/Arr_segment_traits_2.h>
+#include <CGAL/Arr_walk_along_line_point_location.h>
 #include <CGAL/Arrangement_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -23,11 +26,38 @@ using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
 using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, SurfaceId>;
 // Faces carry their index among the receiver's inside faces (-1 outside).
 using Dcel = CGAL::Arr_face_extended_dcel<Traits, int>;
+// A vertex's serial number (never reused) and its position rounded once from the exact
+// coordinates.
+struct VertexData {
+  std::size_t serial = 0;
+  Vec2 local;
+  Vec3 world;
+};
 using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 using Point = Kernel::Point_2;
 using FT = Kernel::FT;
 // Landmarks: fast queries on large meshes; it observes the arrangement, so edits keep it valid.
 using PointLocation = CGAL::Arr_landmarks_point_location<Arrangement>;
+// Edits locate with a walk: landmarks rebuild themselves after every edit.
+using WalkLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
+
+// Where a piece comes from, in the doubles it was computed from: its segment's ends, and the ends
+// of the segment (or outline edge) whose line it was snapped onto. Equal sources give the same
+// exact piece (snapping is exact arithmetic on them), so an update compares pieces by source.
+struct PieceSource {
+  std::array<double, 6> own{};
+  std::array<double, 6> line{};  // all zero when not snapped
+  bool snapped = false;
+  auto operator<=>(const PieceSource&) const = default;
+};
+
+struct Piece {
+  Point a, b;
+  SurfaceId surface;
+  bool isOutline;
+  bool isJoined = false;  // shares an endpoint exactly with another piece (a polyline's joint)
+  PieceSource source;
+};
 
 }  // namespace
 
@@ -41,6 +71,7 @@ struct ReceiverMesh::Impl {
   std::vector<MeshFace> faces;
   // The receiver's outline, and whether the arrangement still holds nothing else (see insert()).
   std::vector<Traits::Curve_2> boundary;
+  std::vector<std::array<double, 6>> boundarySources;  // each outline edge's ends
   bool onlyBoundary = true;
 
   Point toPoint(const Vec3& p) const {
@@ -61,10 +92,33 @@ struct ReceiverMesh::Impl {
   // Fixed at indexing, positions depend on the mesh's construction alone, so a mesh kept by an
   // update reads exactly as one built again from the same segments.
   std::vector<Arrangement::Face_const_handle> faceHandles;
-  std::unordered_map<const void*, Vec2> vertexLocal;
-  std::unordered_map<const void*, Vec3> vertexWorld;
-  Vec3 worldOf(Arrangement::Vertex_const_handle v) const { return vertexWorld.at(&*v); }
-  Vec2 localOf(Arrangement::Vertex_const_handle v) const { return vertexLocal.at(&*v); }
+  // Each vertex's data by its address: entries are added when a vertex is first indexed and
+  // erased when an update removes the vertex (whose address a later vertex may take).
+  std::unordered_map<const void*, VertexData> vertices;
+  std::size_t nextSerial = 1;
+  const VertexData& dataOf(Arrangement::Vertex_const_handle v) const { return vertices.at(&*v); }
+  Vec3 worldOf(Arrangement::Vertex_const_handle v) const { return dataOf(v).world; }
+  Vec2 localOf(Arrangement::Vertex_const_handle v) const { return dataOf(v).local; }
+  // The pieces the arrangement holds (snapped, outline left out), for the next update's diff.
+  std::vector<Piece> pieces;
+  // The segments as pieces in the receiver's frame, nearly collinear ones snapped (see insert()).
+  std::vector<Piece> piecesOf(const std::vector<DiscontinuitySegment>& segments,
+                              double snapTolerance) const;
+  // Each inside face's sample, area and index by its boundary's vertex serials (canonical cycles,
+  // 0 between cycles), from the last indexing: a face an edit left whole has the same serials.
+  struct IndexedFace {
+    Vec3 sample;
+    double area;
+    int index;
+  };
+  struct SerialsHash {
+    std::size_t operator()(const std::vector<std::size_t>& serials) const {
+      std::size_t h = serials.size();
+      for (std::size_t s : serials) h = h * 1000003u ^ s;
+      return h;
+    }
+  };
+  std::unordered_map<std::vector<std::size_t>, IndexedFace, SerialsHash> indexed;
 
   using Cycle = std::vector<Arrangement::Halfedge_const_handle>;
   // A boundary cycle of a face as its halfedges, starting where the sequence of its vertices'
@@ -200,25 +254,66 @@ struct ReceiverMesh::Impl {
     return fallback;
   }
 
-  void indexFaces() {
-    faces.clear();
-    faceHandles.clear();
-    vertexLocal.clear();
-    vertexWorld.clear();
+  // Indexes the inside faces, each with its sample and area (kept from the last indexing for a
+  // face whose boundary is the same vertices); gives each face's index at the last indexing, or
+  // -1 for a face that was not there.
+  std::vector<int> indexFaces() {
     for (auto v = arrangement.vertices_begin(); v != arrangement.vertices_end(); ++v) {
-      vertexLocal.emplace(&*v, rounded(v->point()));
-      vertexWorld.emplace(&*v, frame.toWorld(vertexLocal.at(&*v)));
+      const auto [it, added] = vertices.try_emplace(&*v);
+      if (!added) continue;
+      it->second.serial = nextSerial++;
+      it->second.local = rounded(v->point());
+      it->second.world = frame.toWorld(it->second.local);
     }
+    struct Found {
+      Arrangement::Face_const_handle handle;
+      std::vector<std::size_t> serials;
+      IndexedFace face;  // index: the previous one
+    };
+    std::vector<Found> found;
+    decltype(indexed) outside;  // bounded faces that are not inside faces, remembered as such
     for (auto f = arrangement.faces_begin(); f != arrangement.faces_end(); ++f) {
       f->set_data(-1);
       if (f->is_unbounded()) continue;
+      // The face's identity: each cycle's serials from its least one, holes ordered by it (a
+      // vertex is visited twice only along an antenna, whose cycle is then ambiguous; such a
+      // face is computed again: the key stays a function of the boundary either way).
+      std::vector<std::size_t> serials;
+      std::vector<std::vector<std::size_t>> holes;
+      const auto cycleSerials = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+        std::vector<std::size_t> cycle;
+        auto c = first;
+        do cycle.push_back(dataOf(c->source()).serial);
+        while (++c != first);
+        std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end()), cycle.end());
+        return cycle;
+      };
+      if (f->has_outer_ccb()) serials = cycleSerials(f->outer_ccb());
+      for (auto h = f->holes_begin(); h != f->holes_end(); ++h) holes.push_back(cycleSerials(*h));
+      std::sort(holes.begin(), holes.end());
+      serials.push_back(0);
+      for (const auto& hole : holes) {
+        serials.insert(serials.end(), hole.begin(), hole.end());
+        serials.push_back(0);
+      }
+      if (const auto kept = indexed.find(serials); kept != indexed.end()) {
+        if (kept->second.index < 0) {
+          outside.emplace(std::move(serials), kept->second);
+        } else {
+          found.push_back({f, std::move(serials), kept->second});
+        }
+        continue;
+      }
       const auto inside = interiorPoint(f);
-      if (!inside) continue;
-      const Vec3 sample = toWorld(*inside);
-      if (!containsPoint(outline, frame.toLocal(sample))) continue;
+      const Vec3 sample = inside ? toWorld(*inside) : Vec3{};
+      const std::vector<Cycle> cycles = inside ? cyclesOf(f) : std::vector<Cycle>{};
+      if (!inside || !containsPoint(outline, frame.toLocal(sample))) {
+        outside.emplace(std::move(serials), IndexedFace{{}, 0, -1});
+        continue;
+      }
       // Summed over the canonical cycles: floating-point sums depend on their order.
       double twiceArea = 0;
-      for (const Cycle& cycle : cyclesOf(f)) {
+      for (const Cycle& cycle : cycles) {
         double sum = 0;
         for (auto h : cycle) {
           const Vec2 a = localOf(h->source()), b = localOf(h->target());
@@ -226,28 +321,43 @@ struct ReceiverMesh::Impl {
         }
         twiceArea += sum;
       }
-      faces.push_back({0, sample, twiceArea / 2});
-      faceHandles.push_back(f);
+      found.push_back({f, std::move(serials), {sample, twiceArea / 2, -1}});
     }
     // Indexed in the order of their sample points: distinct faces have distinct samples (each
     // strictly inside its face), so the order is the geometry's, not the arrangement's history.
-    std::vector<size_t> order(faces.size());
-    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-    const auto sampleKey = [&](size_t k) {
-      const Vec3& q = faces[k].samplePoint;
-      return std::array<double, 3>{q.x, q.y, q.z};
+    const auto sampleKey = [](const Found& x) {
+      return std::array<double, 3>{x.face.sample.x, x.face.sample.y, x.face.sample.z};
     };
-    std::sort(order.begin(), order.end(),
-              [&](size_t a, size_t b) { return sampleKey(a) < sampleKey(b); });
-    std::vector<MeshFace> sortedFaces;
-    std::vector<Arrangement::Face_const_handle> sortedHandles;
-    for (size_t k : order) {
-      sortedFaces.push_back({int(sortedFaces.size()), faces[k].samplePoint, faces[k].area});
-      sortedHandles.push_back(faceHandles[k]);
-      arrangement.non_const_handle(faceHandles[k])->set_data(int(sortedHandles.size()) - 1);
+    // Slivers a few ulps wide can share a rounded sample: then their boundaries decide.
+    const auto boundaryKey = [&](const Found& x) {
+      std::vector<double> key;
+      for (const Cycle& cycle : cyclesOf(x.handle)) {
+        for (auto h : cycle) {
+          key.push_back(localOf(h->source()).x);
+          key.push_back(localOf(h->source()).y);
+        }
+        key.push_back(std::numeric_limits<double>::infinity());
+      }
+      key.push_back(x.face.area);
+      return key;
+    };
+    std::sort(found.begin(), found.end(), [&](const Found& x, const Found& y) {
+      if (sampleKey(x) != sampleKey(y)) return sampleKey(x) < sampleKey(y);
+      return boundaryKey(x) < boundaryKey(y);
+    });
+    faces.clear();
+    faceHandles.clear();
+    std::vector<int> previous;
+    indexed = std::move(outside);
+    for (Found& x : found) {
+      const int index = int(faces.size());
+      faces.push_back({index, x.face.sample, x.face.area});
+      faceHandles.push_back(x.handle);
+      previous.push_back(x.face.index);
+      arrangement.non_const_handle(x.handle)->set_data(index);
+      indexed.emplace(std::move(x.serials), IndexedFace{x.face.sample, x.face.area, index});
     }
-    faces = std::move(sortedFaces);
-    faceHandles = std::move(sortedHandles);
+    return previous;
   }
 };
 
@@ -260,7 +370,11 @@ ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver) : impl_(std::make_uniqu
   for (size_t i = 0; i < receiver.vertices.size(); ++i) {
     const Point a = impl_->toPoint(receiver.vertices[i]);
     const Point b = impl_->toPoint(receiver.vertices[(i + 1) % receiver.vertices.size()]);
-    if (a != b) boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), kBoundary));
+    if (a == b) continue;
+    boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), kBoundary));
+    const Vec3 &p = receiver.vertices[i],
+               &q = receiver.vertices[(i + 1) % receiver.vertices.size()];
+    impl_->boundarySources.push_back({p.x, p.y, p.z, q.x, q.y, q.z});
   }
   CGAL::insert(impl_->arrangement, boundary.begin(), boundary.end());
   impl_->indexFaces();
@@ -275,13 +389,6 @@ PolygonId ReceiverMesh::receiver() const {
 }
 
 namespace {
-
-struct Piece {
-  Point a, b;
-  SurfaceId surface;
-  bool isOutline;
-  bool isJoined = false;  // shares an endpoint exactly with another piece (a polyline's joint)
-};
 
 // Groups the pieces lying within `tolerance` of one line and moves each exactly onto the line of
 // its group's reference (an outline edge if one is in the group, else the longest piece): the
@@ -350,6 +457,8 @@ void snapNearlyCollinear(std::vector<Piece>& pieces, double tolerance) {
           if (snappedA == snappedB) continue;
           piece.a = snappedA;
           piece.b = snappedB;
+          piece.source.line = pieces[lines[reference].index].source.own;
+          piece.source.snapped = true;
         }
       }
       first = last;
@@ -360,16 +469,18 @@ void snapNearlyCollinear(std::vector<Piece>& pieces, double tolerance) {
 
 }  // namespace
 
-void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance) {
+std::vector<Piece> ReceiverMesh::Impl::piecesOf(const std::vector<DiscontinuitySegment>& segments,
+                                                double snapTolerance) const {
   std::vector<Piece> pieces;
   std::vector<const DiscontinuitySegment*> sources;  // the segment each piece comes from
   pieces.reserve(segments.size());
   std::map<std::array<double, 3>, int> ends;
   const auto key = [](const Vec3& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
   for (const DiscontinuitySegment& s : segments) {
-    const Point a = impl_->toPoint(s.p0), b = impl_->toPoint(s.p1);
+    const Point a = toPoint(s.p0), b = toPoint(s.p1);
     if (a == b) continue;
-    pieces.push_back({a, b, s.surface, false});
+    pieces.push_back({a, b, s.surface, false, false, {}});
+    pieces.back().source.own = {s.p0.x, s.p0.y, s.p0.z, s.p1.x, s.p1.y, s.p1.z};
     sources.push_back(&s);
     if (snapTolerance > 0) {
       ++ends[key(s.p0)];
@@ -379,15 +490,29 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
   if (snapTolerance > 0) {
     for (size_t k = 0; k < pieces.size(); ++k)
       pieces[k].isJoined = ends[key(sources[k]->p0)] > 1 || ends[key(sources[k]->p1)] > 1;
-    for (const Traits::Curve_2& edge : impl_->boundary)
-      pieces.push_back({edge.source(), edge.target(), kBoundary, true});
+    for (size_t k = 0; k < boundary.size(); ++k) {
+      pieces.push_back({boundary[k].source(), boundary[k].target(), kBoundary, true, false, {}});
+      pieces.back().source.own = boundarySources[k];
+    }
     snapNearlyCollinear(pieces, snapTolerance);
     std::erase_if(pieces, [](const Piece& p) { return p.isOutline; });
   }
+  return pieces;
+}
+
+namespace {
+
+Traits::Curve_2 curveOf(const Piece& p) {
+  return Traits::Curve_2(SegmentTraits::Curve_2(p.a, p.b), p.surface);
+}
+
+}  // namespace
+
+void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance) {
+  std::vector<Piece> pieces = impl_->piecesOf(segments, snapTolerance);
   std::vector<Traits::Curve_2> curves;
   curves.reserve(pieces.size());
-  for (const Piece& p : pieces)
-    curves.push_back(Traits::Curve_2(SegmentTraits::Curve_2(p.a, p.b), p.surface));
+  for (const Piece& p : pieces) curves.push_back(curveOf(p));
   if (impl_->onlyBoundary && !curves.empty()) {
     // The first insertion rebuilds the arrangement from nothing, outline and segments in one
     // sweep: CGAL's sweep into a non-empty arrangement walks a new face's whole boundary each
@@ -395,10 +520,111 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
     // (245 s for 55k segments on a 10k-polygon room's floor); the construction sweep is not.
     curves.insert(curves.end(), impl_->boundary.begin(), impl_->boundary.end());
     impl_->arrangement.clear();
+    impl_->vertices.clear();
+    impl_->indexed.clear();
     impl_->onlyBoundary = false;
   }
   CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
+  impl_->pieces.insert(impl_->pieces.end(), std::make_move_iterator(pieces.begin()),
+                       std::make_move_iterator(pieces.end()));
   impl_->indexFaces();
+}
+
+std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& segments,
+                                      double snapTolerance, UpdateStats* stats) {
+  Impl& m = *impl_;
+  if (m.onlyBoundary) {
+    insert(segments, snapTolerance);
+    return std::vector<int>(m.faces.size(), -1);
+  }
+  std::vector<Piece> now = m.piecesOf(segments, snapTolerance);
+  // Each surface's pieces by source, before and now; a surface now whose pieces are those of one
+  // before (a surface's id is its position in the frame's list, which moves) takes its edges.
+  using Group = std::vector<PieceSource>;
+  const auto groupsOf = [](const std::vector<Piece>& pieces) {
+    std::map<SurfaceId, Group> groups;
+    for (const Piece& p : pieces) groups[p.surface].push_back(p.source);
+    for (auto& [id, group] : groups) std::sort(group.begin(), group.end());
+    return groups;
+  };
+  const std::map<SurfaceId, Group> before = groupsOf(m.pieces), after = groupsOf(now);
+  std::map<Group, std::vector<SurfaceId>> beforeByGroup;
+  for (const auto& [id, group] : before) beforeByGroup[group].push_back(id);
+  std::map<SurfaceId, SurfaceId> renamed;  // before → now
+  std::set<SurfaceId> removed, added;
+  for (const auto& [id, group] : before) removed.insert(id);
+  for (const auto& [id, group] : after) {
+    auto it = beforeByGroup.find(group);
+    if (it == beforeByGroup.end() || it->second.empty()) {
+      added.insert(id);
+      continue;
+    }
+    const SurfaceId old = it->second.back();
+    it->second.pop_back();
+    removed.erase(old);
+    if (old != id) renamed.emplace(old, id);
+  }
+  if (stats) *stats = {int(removed.size()), int(added.size())};
+
+  // Edges lose the removed surfaces and take the new names; those left with none disappear. The
+  // vertices at their ends, and at the ends of edges that lost a surface, may be left isolated or
+  // between two collinear edges of equal surfaces, which the arrangement of the remaining pieces
+  // lacks unless they end a piece there.
+  m.locator.detach();
+  std::vector<Arrangement::Halfedge_handle> doomed;
+  std::vector<Arrangement::Vertex_handle> touched;
+  for (auto e = m.arrangement.edges_begin(); e != m.arrangement.edges_end(); ++e) {
+    const auto& data = e->curve().data();
+    bool changed = false, lost = false;
+    Traits::Data_container names;
+    for (SurfaceId id : data) {
+      if (removed.count(id)) {
+        lost = true;
+        continue;
+      }
+      const auto it = renamed.find(id);
+      changed = changed || it != renamed.end();
+      names.insert(it == renamed.end() ? id : it->second);
+    }
+    if (lost) {
+      touched.push_back(e->source());
+      touched.push_back(e->target());
+    }
+    if (names.size() == 0) {
+      doomed.push_back(e);
+    } else if (changed || lost) {
+      m.arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
+    }
+  }
+  for (auto e : doomed) m.arrangement.remove_edge(e, false, false);
+  const auto lessXY = [](const Point& a, const Point& b) {
+    return CGAL::compare_xy(a, b) == CGAL::SMALLER;
+  };
+  std::set<Point, decltype(lessXY)> ends(lessXY);
+  for (const Piece& p : now)
+    if (!added.count(p.surface)) {
+      ends.insert(p.a);
+      ends.insert(p.b);
+    }
+  for (const auto& curve : m.boundary) {
+    ends.insert(curve.source());
+    ends.insert(curve.target());
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (auto v : touched) {
+    if (ends.count(v->point()) || !(v->is_isolated() || v->degree() == 2)) continue;
+    const void* address = &*v;
+    if (CGAL::remove_vertex(m.arrangement, v)) m.vertices.erase(address);
+  }
+  {
+    WalkLocation walk(m.arrangement);
+    for (const Piece& p : now)
+      if (added.count(p.surface)) CGAL::insert(m.arrangement, curveOf(p), walk);
+  }
+  m.locator.attach(m.arrangement);
+  m.pieces = std::move(now);
+  return m.indexFaces();
 }
 
 void ReceiverMesh::renumberSurfaces(const std::map<SurfaceId, SurfaceId>& renamed) {
@@ -414,23 +640,8 @@ void ReceiverMesh::renumberSurfaces(const std::map<SurfaceId, SurfaceId>& rename
     }
     if (touched) impl_->arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
   }
-}
-
-void ReceiverMesh::removeSurface(SurfaceId surface) {
-  std::vector<Arrangement::Halfedge_handle> doomed;
-  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
-    const auto& data = e->curve().data();
-    if (std::find(data.begin(), data.end(), surface) == data.end()) continue;
-    Traits::Data_container remaining = data;
-    remaining.erase(surface);
-    if (remaining.size() == 0) {
-      doomed.push_back(e);
-    } else {
-      impl_->arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), remaining));
-    }
-  }
-  for (auto e : doomed) impl_->arrangement.remove_edge(e);
-  impl_->indexFaces();
+  for (Piece& p : impl_->pieces)
+    if (const auto it = renamed.find(p.surface); it != renamed.end()) p.surface = it->second;
 }
 
 int ReceiverMesh::vertexCount() const {

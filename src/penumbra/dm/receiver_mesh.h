@@ -47,9 +47,18 @@ class ReceiverMesh {
   // outline's, where one is near), each keeping its surface: computed apart they would stand a
   // few ulps from one another and leave sliver faces between them.
   void insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance = 0);
-  // Removes the surface from every edge; edges left with no surface disappear. Local: only the
-  // faces around those edges change.
-  void removeSurface(SurfaceId surface);
+  // What an update changed: surfaces whose pieces were removed, and surfaces inserted.
+  struct UpdateStats {
+    int removedSurfaces = 0, insertedSurfaces = 0;
+  };
+  // Makes the mesh exactly what insert(segments, snapTolerance) builds on a new mesh of the
+  // receiver (the same faces, indices, samples and boundaries, bit for bit), editing it locally:
+  // a surface whose pieces (by the doubles they come from) are those of a surface already here
+  // takes over its edges under its new id; the others' edges are removed, the vertices that
+  // leaves redundant merged away, and the new pieces inserted one by one. Gives each face's
+  // index before the update where the face was left whole (same boundary vertices), else -1.
+  std::vector<int> update(const std::vector<DiscontinuitySegment>& segments,
+                          double snapTolerance = 0, UpdateStats* stats = nullptr);
   // Renames the surfaces named on the edges (ids not in `renamed` stay): for an update whose
   // segments kept their geometry and order but not their surfaces' positions in the frame's list.
   // Geometry and face indices are unchanged.
