@@ -795,8 +795,14 @@ const PlaneFrame& ReceiverMesh::frame() const {
 size_t ReceiverMesh::memoryBytes() const {
   // DCEL records plus the exact coordinates' lazy representations, estimated per record.
   const auto& a = impl_->arrangement;
+  // What an update reads besides: the pieces, each vertex's data and each face's cached sample
+  // (keyed by its boundary's serials: about one per half-edge).
+  const size_t updateData = impl_->pieces.capacity() * sizeof(Piece) +
+                            impl_->vertices.size() * (sizeof(VertexData) + 32) +
+                            impl_->indexed.size() * (sizeof(Impl::IndexedFace) + 64) +
+                            a.number_of_halfedges() * sizeof(std::size_t);
   return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 120 +
-         a.number_of_faces() * 64 + impl_->faces.capacity() * sizeof(MeshFace);
+         a.number_of_faces() * 64 + impl_->faces.capacity() * sizeof(MeshFace) + updateData;
 }
 
 }  // namespace penumbra
