@@ -34,6 +34,7 @@ nlohmann::json statsJson(const DmStats& s) {
             {"reused_faces", s.reusedFaces},
             {"recomputed_faces", s.recomputedFaces},
             {"kept_casts", s.keptCasts},
+            {"recast_with_moved_only", s.recastMovedCasts},
             {"kept_traces", s.keptTraces}}},
           {"surfaces",
            {{"ev_light_vertex_occluder_edge", s.surfacesEmitterVertex},

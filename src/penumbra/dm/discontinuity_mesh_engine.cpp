@@ -222,17 +222,32 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       for (const Box3& box : {move.boundsBefore, move.boundsAfter})
         grid_->forEachCellOverlappingBox(box, [&](int cell) { movedCells[cell] = 1; });
   }
+  // The polygons of the moved objects: a surface with the same fan whose cells they touch has
+  // only its cuts with them computed again (recastMoved: the paper's re-intersection with the
+  // moving object).
+  std::vector<char> movedPolygons;
+  if (change) {
+    movedPolygons.assign(posed_->polygons.size(), 0);
+    for (const ObjectMove& move : change->moves)
+      for (PolygonId id = posed_->objectFirstPolygon[move.object];
+           id < posed_->objectFirstPolygon[move.object + 1]; ++id)
+        movedPolygons[size_t(id)] = 1;
+  }
   const auto castOrKeep = [&](DiscontinuitySurface& surface) {
     const auto [first, last] = previousByFan.equal_range(fanHash(surface));
     for (auto it = first; it != last; ++it) {
-      const DiscontinuitySurface& before = previousSurfaces[it->second];
+      DiscontinuitySurface& before = previousSurfaces[it->second];
       if (!sameFan(before, surface)) continue;
-      if (std::any_of(before.cells.begin(), before.cells.end(),
-                      [&](int cell) { return movedCells[cell] != 0; }))
-        continue;
-      surface.cells = before.cells;
-      surface.intersections = before.intersections;
-      ++stats_.keptCasts;
+      surface.cells = std::move(before.cells);
+      surface.intersections = std::move(before.intersections);
+      before.fan.source0 = Vec3{std::nan(""), 0, 0};  // taken: no other surface matches it
+      if (std::any_of(surface.cells.begin(), surface.cells.end(),
+                      [&](int cell) { return movedCells[cell] != 0; })) {
+        recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
+        ++stats_.recastMovedCasts;
+      } else {
+        ++stats_.keptCasts;
+      }
       return;
     }
     castSurface(surface, *posed_, *grid_);

@@ -46,6 +46,9 @@ struct DmStats {
   // Planar surfaces whose cast (cells and stored intersections) was kept: the same fan as before,
   // and no moved object's old or new bounds in any of its cells.
   long long keptCasts = 0;
+  // Planar surfaces with the same fan whose cells a moved object touches: only their cuts with
+  // the moved objects' polygons computed again (the paper's re-intersection with the mover).
+  long long recastMovedCasts = 0;
   // EEE surfaces whose traced segments were kept: the same light and edges as before, and no
   // moved object's old or new bounds in any of the cells their lines cross.
   long long keptTraces = 0;

@@ -119,6 +119,22 @@ struct ReceiverMesh::Impl {
     }
   };
   std::unordered_map<std::vector<std::size_t>, IndexedFace, SerialsHash> indexed;
+  // The faces an edit may destroy (around the edges it removes or changes), as they were: an
+  // edit that takes a piece out and puts the same piece back recreates them with new vertices,
+  // and indexFaces recognises them by their geometry (exact boundary points, canonical order).
+  struct FormerFace {
+    IndexedFace face;
+    std::vector<std::vector<Point>> cycles;
+  };
+  std::vector<FormerFace> former;
+  std::vector<std::vector<Point>> exactCycles(Arrangement::Face_const_handle f) const {
+    std::vector<std::vector<Point>> out;
+    for (const Cycle& cycle : cyclesOf(f)) {
+      out.emplace_back();
+      for (auto h : cycle) out.back().push_back(h->source()->point());
+    }
+    return out;
+  }
 
   using Cycle = std::vector<Arrangement::Halfedge_const_handle>;
   // A boundary cycle of a face as its halfedges, starting where the sequence of its vertices'
@@ -321,8 +337,15 @@ struct ReceiverMesh::Impl {
         }
         twiceArea += sum;
       }
-      found.push_back({f, std::move(serials), {sample, twiceArea / 2, -1}});
+      int previousIndex = -1;
+      for (const FormerFace& was : former) {
+        if (was.face.sample != sample || was.face.area != twiceArea / 2) continue;
+        if (was.cycles == exactCycles(f)) previousIndex = was.face.index;
+        break;
+      }
+      found.push_back({f, std::move(serials), {sample, twiceArea / 2, previousIndex}});
     }
+    former.clear();
     // Indexed in the order of their sample points: distinct faces have distinct samples (each
     // strictly inside its face), so the order is the geometry's, not the arrangement's history.
     const auto sampleKey = [](const Found& x) {
@@ -594,6 +617,30 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
       doomed.push_back(e);
     } else if (changed || lost) {
       m.arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
+    }
+  }
+  {
+    std::vector<Arrangement::Face_const_handle> around;
+    const auto add = [&](Arrangement::Face_const_handle f) {
+      if (f->data() >= 0) around.push_back(f);
+    };
+    for (auto e : doomed) {
+      add(e->face());
+      add(e->twin()->face());
+    }
+    for (auto v : touched) {
+      if (v->is_isolated()) continue;
+      auto c = v->incident_halfedges();
+      const auto first = c;
+      do add(c->face());
+      while (++c != first);
+    }
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    m.former.clear();
+    for (auto f : around) {
+      const MeshFace& face = m.faces[size_t(f->data())];
+      m.former.push_back({{face.samplePoint, face.area, face.index}, m.exactCycles(f)});
     }
   }
   for (auto e : doomed) m.arrangement.remove_edge(e, false, false);

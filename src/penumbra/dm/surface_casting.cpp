@@ -104,4 +104,36 @@ void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const U
   }
 }
 
+void recastMoved(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid,
+                 const std::vector<char>& moved, const std::vector<char>& movedCells) {
+  std::vector<PolygonId> candidates;
+  for (int cell : surface.cells) {
+    if (!movedCells[size_t(cell)]) continue;
+    for (PolygonId id : grid.polygonsInCell(cell))
+      if (moved[size_t(id)] && id != surface.light) candidates.push_back(id);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  std::vector<SurfaceIntersection> cuts;
+  if (!candidates.empty()) {
+    const std::vector<Polygon3> pieces = boundedFan(surface.fan, grid.bounds());
+    for (PolygonId id : candidates)
+      for (const Polygon3& piece : pieces)
+        for (const ConvexCut& cut : intersectWithConvex(scene.polygons[id].vertices, piece))
+          cuts.push_back({id, cut.p0, cut.p1, cut.boundaryAt0, cut.boundaryAt1});
+  }
+  // The kept cuts and the new ones, each in polygon order (a polygon's cuts stay together, in
+  // the order castSurface makes them).
+  std::vector<SurfaceIntersection> merged;
+  merged.reserve(surface.intersections.size() + cuts.size());
+  size_t next = 0;
+  for (const SurfaceIntersection& kept : surface.intersections) {
+    if (moved[size_t(kept.polygon)]) continue;
+    while (next < cuts.size() && cuts[next].polygon < kept.polygon) merged.push_back(cuts[next++]);
+    merged.push_back(kept);
+  }
+  while (next < cuts.size()) merged.push_back(cuts[next++]);
+  surface.intersections = std::move(merged);
+}
+
 }  // namespace penumbra
