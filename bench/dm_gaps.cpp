@@ -170,11 +170,11 @@ int main(int argc, char** argv) {
   for (int id : surfacesToShow) {
     const DiscontinuitySurface& surface = engine.surfaces()[id];
     const CriticalFan& f = surface.fan;
-    std::printf("surface %d kind %d: source (%.6f %.6f %.6f)-(%.6f %.6f %.6f) hinge (%.6f %.6f "
-                "%.6f)-(%.6f %.6f %.6f), hinge polygons",
-                id, int(surface.kind), f.source0.x, f.source0.y, f.source0.z, f.source1.x,
-                f.source1.y, f.source1.z, f.hinge0.x, f.hinge0.y, f.hinge0.z, f.hinge1.x,
-                f.hinge1.y, f.hinge1.z);
+    std::printf(
+        "surface %d kind %d: source (%.6f %.6f %.6f)-(%.6f %.6f %.6f) hinge (%.6f %.6f "
+        "%.6f)-(%.6f %.6f %.6f), hinge polygons",
+        id, int(surface.kind), f.source0.x, f.source0.y, f.source0.z, f.source1.x, f.source1.y,
+        f.source1.z, f.hinge0.x, f.hinge0.y, f.hinge0.z, f.hinge1.x, f.hinge1.y, f.hinge1.z);
     for (PolygonId p : surface.hingePolygons) std::printf(" %d", p);
     std::printf("\n");
     for (const SurfaceIntersection& cut : surface.intersections)

@@ -97,8 +97,8 @@ int main(int argc, char** argv) {
     if (flag == "--moves") moves = std::atoi(argv[i + 1]);
     if (flag == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
   }
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("dm_random_moves_" + std::to_string(seed) + ".json");
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("dm_random_moves_" + std::to_string(seed) + ".json");
   std::ofstream(path) << kScene;
   const Scene scene = loadScene(path.string());
   std::filesystem::remove(path);
@@ -177,8 +177,7 @@ int main(int argc, char** argv) {
     DiscontinuityMeshEngine full;
     full.build(scratch);
     fullSeconds += std::chrono::duration<double>(Clock::now() - start).count();
-    const auto difference =
-        firstDifference(buildIrradianceMesh(engine), buildIrradianceMesh(full));
+    const auto difference = firstDifference(buildIrradianceMesh(engine), buildIrradianceMesh(full));
     if (difference) {
       if (differences < 10)
         std::printf("move %d (kind %d): DIFFERS from a full recomputation: %s\n", move, kind,
@@ -186,8 +185,8 @@ int main(int argc, char** argv) {
       ++differences;
     }
     if ((move + 1) % 100 == 0)
-      std::printf("%d moves: %d differences; update %.3f s, full %.3f s in all (x%.2f)\n",
-                  move + 1, differences, updateSeconds, fullSeconds, fullSeconds / updateSeconds);
+      std::printf("%d moves: %d differences; update %.3f s, full %.3f s in all (x%.2f)\n", move + 1,
+                  differences, updateSeconds, fullSeconds, fullSeconds / updateSeconds);
   }
   std::printf(
       "seed %llu, %d moves (floor %d, stacked %d, pushed together %d, floating %d, card on edge "

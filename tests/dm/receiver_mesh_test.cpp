@@ -93,16 +93,17 @@ TEST(ReceiverMesh, UpdateEqualsBuildingAgain) {
   segments.push_back({105, 0, {0, 0.37 + 4e-16, 0}, {1, 0.71 - 4e-16, 0}, 0, 1});
   ReceiverMesh updated(unitSquareReceiver());
   updated.insert(segments, 1e-12);
-  int kept = 0;
+  int kept = 0, swept = 0;
   for (int step = 0; step < 12; ++step) {
     std::vector<DiscontinuitySegment> next;
     SurfaceId id = 1000 * (step + 1);  // every surface renumbered, as an update does
+    // Most pieces stay on even steps (an edit); most change on odd ones (swept again).
     for (const DiscontinuitySegment& s : segments)
-      if (coin(rng) != 0) {
+      if ((coin(rng) != 0) == (step % 2 == 0)) {
         next.push_back(s);
         next.back().surface = id++;
       }
-    for (int i = 0; i < 10; ++i) next.push_back(randomSegment(id++));
+    while (next.size() < 90) next.push_back(randomSegment(id++));  // topped up with new ones
     std::shuffle(next.begin(), next.end(), rng);
     ReceiverMesh::UpdateStats stats;
     const std::vector<int> previous = updated.update(next, 1e-12, &stats);
@@ -114,9 +115,12 @@ TEST(ReceiverMesh, UpdateEqualsBuildingAgain) {
     EXPECT_GT(stats.insertedSurfaces, 0);
     ASSERT_EQ(previous.size(), updated.faces().size());
     for (int p : previous) kept += p >= 0 ? 1 : 0;
+    swept += stats.rebuilt ? 1 : 0;
     segments = next;
   }
   EXPECT_GT(kept, 0);  // faces the edits left whole are recognised as such
+  EXPECT_GT(swept, 0);
+  EXPECT_LT(swept, 12);
 }
 
 // One event computed twice (coplanar fans), a few ulps apart: inserted as they are they leave a

@@ -31,6 +31,7 @@ nlohmann::json statsJson(const DmStats& s) {
             {"edited_meshes", s.editedMeshes},
             {"removed_surfaces", s.removedSurfaces},
             {"inserted_surfaces", s.insertedSurfaces},
+            {"reswept_meshes", s.resweptMeshes},
             {"reused_faces", s.reusedFaces},
             {"recomputed_faces", s.recomputedFaces},
             {"kept_casts", s.keptCasts},

@@ -520,6 +520,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       previousFace = data.mesh.update(segments, snap, &edit);
       stats_.removedSurfaces += edit.removedSurfaces;
       stats_.insertedSurfaces += edit.insertedSurfaces;
+      stats_.resweptMeshes += edit.rebuilt ? 1 : 0;
       ++stats_.editedMeshes;
     } else {
       data.mesh.insert(segments, snap);

@@ -40,9 +40,9 @@ struct DmStats {
   // backprojections and verification were kept (same boundary, no moved bounds in their cones)
   // and recomputed: what an update's cost follows.
   long long keptMeshes = 0, rebuiltMeshes = 0, reusedFaces = 0, recomputedFaces = 0;
-  // Receiver meshes an update edited locally (ReceiverMesh::update), and the surfaces whose edges
-  // those edits removed and inserted.
-  long long editedMeshes = 0, removedSurfaces = 0, insertedSurfaces = 0;
+  // Receiver meshes an update edited (ReceiverMesh::update), the surfaces whose edges those edits
+  // removed and inserted, and the edited meshes built again in one sweep (most pieces changed).
+  long long editedMeshes = 0, removedSurfaces = 0, insertedSurfaces = 0, resweptMeshes = 0;
   // Planar surfaces whose cast (cells and stored intersections) was kept: the same fan as before,
   // and no moved object's old or new bounds in any of its cells.
   long long keptCasts = 0;

@@ -287,6 +287,11 @@ struct ReceiverMesh::Impl {
       IndexedFace face;  // index: the previous one
     };
     std::vector<Found> found;
+    std::map<std::array<double, 3>, size_t> formerBySample;
+    for (size_t k = 0; k < former.size(); ++k) {
+      const Vec3& q = former[k].face.sample;
+      formerBySample.emplace(std::array<double, 3>{q.x, q.y, q.z}, k);
+    }
     decltype(indexed) outside;  // bounded faces that are not inside faces, remembered as such
     for (auto f = arrangement.faces_begin(); f != arrangement.faces_end(); ++f) {
       f->set_data(-1);
@@ -338,10 +343,11 @@ struct ReceiverMesh::Impl {
         twiceArea += sum;
       }
       int previousIndex = -1;
-      for (const FormerFace& was : former) {
-        if (was.face.sample != sample || was.face.area != twiceArea / 2) continue;
-        if (was.cycles == exactCycles(f)) previousIndex = was.face.index;
-        break;
+      if (const auto was = formerBySample.find({sample.x, sample.y, sample.z});
+          was != formerBySample.end()) {
+        const FormerFace& face = former[was->second];
+        if (face.face.area == twiceArea / 2 && face.cycles == exactCycles(f))
+          previousIndex = face.face.index;
       }
       found.push_back({f, std::move(serials), {sample, twiceArea / 2, previousIndex}});
     }
@@ -587,7 +593,32 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     removed.erase(old);
     if (old != id) renamed.emplace(old, id);
   }
-  if (stats) *stats = {int(removed.size()), int(added.size())};
+  if (stats) *stats = {int(removed.size()), int(added.size()), false};
+
+  // When most of the pieces change, one sweep over all of them is cheaper than editing: the mesh
+  // is built again, and its faces recognised among the former ones by their exact boundaries.
+  size_t changedPieces = 0;
+  for (SurfaceId id : removed) changedPieces += before.at(id).size();
+  for (SurfaceId id : added) changedPieces += after.at(id).size();
+  if (changedPieces > now.size()) {
+    if (stats) stats->rebuilt = true;
+    m.former.clear();
+    for (auto f = m.arrangement.faces_begin(); f != m.arrangement.faces_end(); ++f)
+      if (f->data() >= 0) {
+        const MeshFace& face = m.faces[size_t(f->data())];
+        m.former.push_back({{face.samplePoint, face.area, face.index}, m.exactCycles(f)});
+      }
+    std::vector<Traits::Curve_2> curves;
+    curves.reserve(now.size() + m.boundary.size());
+    for (const Piece& p : now) curves.push_back(curveOf(p));
+    curves.insert(curves.end(), m.boundary.begin(), m.boundary.end());
+    m.arrangement.clear();
+    m.vertices.clear();
+    m.indexed.clear();
+    CGAL::insert(m.arrangement, curves.begin(), curves.end());
+    m.pieces = std::move(now);
+    return m.indexFaces();
+  }
 
   // Edges lose the removed surfaces and take the new names; those left with none disappear. The
   // vertices at their ends, and at the ends of edges that lost a surface, may be left isolated or

@@ -50,13 +50,16 @@ class ReceiverMesh {
   // What an update changed: surfaces whose pieces were removed, and surfaces inserted.
   struct UpdateStats {
     int removedSurfaces = 0, insertedSurfaces = 0;
+    bool rebuilt = false;  // more pieces changed than stayed: built again in one sweep
   };
   // Makes the mesh exactly what insert(segments, snapTolerance) builds on a new mesh of the
   // receiver (the same faces, indices, samples and boundaries, bit for bit), editing it locally:
   // a surface whose pieces (by the doubles they come from) are those of a surface already here
   // takes over its edges under its new id; the others' edges are removed, the vertices that
-  // leaves redundant merged away, and the new pieces inserted one by one. Gives each face's
-  // index before the update where the face was left whole (same boundary vertices), else -1.
+  // leaves redundant merged away, and the new pieces inserted one by one (or, when more pieces
+  // change than stay, the mesh is built again in one sweep). Gives each face's index before the
+  // update where the face has the same boundary as then (same vertices, or the same exact
+  // points), else -1.
   std::vector<int> update(const std::vector<DiscontinuitySegment>& segments,
                           double snapTolerance = 0, UpdateStats* stats = nullptr);
   // Renames the surfaces named on the edges (ids not in `renamed` stay): for an update whose
