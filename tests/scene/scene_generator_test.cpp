@@ -82,6 +82,26 @@ TEST(SceneGenerator, HonoursTheFrameCount) {
   }
 }
 
+// Several moving boxes (generate --moving-boxes): the exact count still, each box dynamic with
+// every keyframe, and the scene valid in every frame (no two objects' boxes share interior).
+TEST(SceneGenerator, SeveralMovingBoxes) {
+  for (int boxes : {2, 3, 4})
+    for (int target : {54, 1000}) {
+      SCOPED_TRACE(std::to_string(boxes) + " boxes, target " + std::to_string(target));
+      const JsonScene scene = parseSceneText(generateSceneJson(
+          {.targetPolygons = target, .seed = 2, .frames = 5, .movingBoxes = boxes}));
+      EXPECT_EQ(scene.polygonCount(), std::max(target, 49 + 6 * (boxes - 1)));
+      int dynamic = 0;
+      for (const JsonObject& o : scene.objects)
+        if (o.isDynamic()) {
+          ++dynamic;
+          EXPECT_EQ(o.motion.keyframes().size(), 5u) << o.name;
+        }
+      EXPECT_EQ(dynamic, boxes);
+      expectValid(scene);
+    }
+}
+
 // A hundred thousand polygons: the exact count and a valid room. How fast is a benchmark's
 // question, not a test's: a wall-clock bound passes or fails with the machine's load.
 TEST(SceneGenerator, ScalesToAHundredThousandPolygons) {

@@ -93,6 +93,7 @@ struct GenerateOptions {
   int polygons = 1000;
   std::uint64_t seed = 1;
   int frames = 4;
+  int movingBoxes = 1;
   std::string output;
 };
 int runGenerate(const GenerateOptions& options, const CommonOptions& common);

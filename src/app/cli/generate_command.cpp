@@ -13,6 +13,7 @@ int runGenerate(const GenerateOptions& options, const CommonOptions& common) {
   generator.targetPolygons = options.polygons;
   generator.seed = options.seed;
   generator.frames = options.frames;
+  generator.movingBoxes = options.movingBoxes;
   const std::string json = generateSceneJson(generator);
   // Whole or not at all; a failure (exit 2) names the file.
   writeOutputFile(options.output, [&](std::ostream& out) { out << json; });

@@ -136,6 +136,8 @@ int main(int argc, char** argv) {
   generateCommand->add_option("--seed", generate.seed, "Random seed");
   generateCommand->add_option("--frames", generate.frames, "Keyframes of the moving box")
       ->check(CLI::Range(1, 100000));
+  generateCommand->add_option("--moving-boxes", generate.movingBoxes, "Boxes moving above the desk")
+      ->check(CLI::Range(1, 4));
   generateCommand->add_option("-o,--output", generate.output, "Output scene JSON")->required();
 
   try {

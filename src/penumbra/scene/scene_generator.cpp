@@ -24,7 +24,8 @@ constexpr double kCellSize = 1.8;    // floor cells, one piece of furniture (or 
 constexpr double kCellMargin = 0.1;  // keeps aisles between the cells' furniture
 constexpr double kBoard = 0.02;      // shelf boards and sides
 constexpr int kPolygonsPerUnit = 6;  // budgets are counted in boxes
-constexpr double kBoxSize = 0.15;    // the floating box
+constexpr double kBoxSize = 0.15;    // the floating boxes
+constexpr int kMaxMovingBoxes = 4;
 
 // SplitMix64 (base/split_mix.h), with our own conversions: std::mt19937_64 is portable but the
 // std:: distributions are not, and a seed must give the same scene everywhere.
@@ -480,13 +481,14 @@ nlohmann::ordered_json vec(const Vec3& v) {
 }
 
 std::string Generator::run() {
-  const int target = std::max(options_.targetPolygons, 49);
+  const int movers = std::clamp(options_.movingBoxes, 1, kMaxMovingBoxes);
+  const int target = std::max(options_.targetPolygons, 49 + 6 * (movers - 1));
   const int frames = std::max(options_.frames, 1);
 
-  // Fixed part: room shell (6), light (1), floating box (6), central desk with monitor (36),
-  // and a chair at it (36) when the budget allows.
-  const bool centralChair = target >= 120;
-  int remaining = target - 49 - (centralChair ? 36 : 0);
+  // Fixed part: room shell (6), light (1), floating boxes (6 each), central desk with monitor
+  // (36), and a chair at it (36) when the budget allows.
+  const bool centralChair = target >= 120 + 6 * (movers - 1);
+  int remaining = target - 49 - 6 * (movers - 1) - (centralChair ? 36 : 0);
   // The remainder modulo 6 goes into one prism (a jar on the central desk): an n-gon prism
   // has n + 2 faces, so 5 faces is a triangular prism and 7..10 need one box less.
   int jarSides = 0;
@@ -545,7 +547,21 @@ std::string Generator::run() {
     swept.extend(p + Vec3{-kBoxSize / 2, 0, -kBoxSize / 2});
     swept.extend(p + Vec3{kBoxSize / 2, kBoxSize, kBoxSize / 2});
   }
-  // The box's whole path is reserved (the hull of two keyframe boxes lies in their bounds).
+  // More boxes above the first, each a box size and a half higher, every other one travelling the
+  // other way: their paths cross the first's shadow and one another's in the light.
+  std::vector<Object> moreMovers;
+  for (int m = 1; m < movers; ++m) {
+    Object extra{"floating-box-" + std::to_string(m + 1), "blue", mover.solids, {}};
+    for (int k = 0; k < frames; ++k) {
+      const int from = m % 2 == 1 ? frames - 1 - k : k;
+      const Vec3 p = mover.path[size_t(from)] + Vec3{0, 1.5 * kBoxSize * m, 0.1 * (m % 2)};
+      extra.path.push_back(p);
+      swept.extend(p + Vec3{-kBoxSize / 2, 0, -kBoxSize / 2});
+      swept.extend(p + Vec3{kBoxSize / 2, kBoxSize, kBoxSize / 2});
+    }
+    moreMovers.push_back(std::move(extra));
+  }
+  // The boxes' whole paths are reserved (the hull of two keyframe boxes lies in their bounds).
   occupancy_.reserve(swept);
   const bool placed = commit(std::move(central));
   CHECK(placed);  // the central block is empty but for the box's path, which clears the desk
@@ -628,6 +644,7 @@ std::string Generator::run() {
                                        {0, -1, 0});
   out.push_back({{"name", "light"}, {"material", "light"}, {"polygons", polygons({Solid{light}})}});
   objects_.push_back(std::move(mover));
+  for (Object& extra : moreMovers) objects_.push_back(std::move(extra));
   for (const Object& o : objects_) {
     nlohmann::ordered_json j{{"name", o.name}, {"material", o.material}};
     if (!o.path.empty()) {
