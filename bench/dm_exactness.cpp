@@ -8,8 +8,10 @@
 // faces answering from their sample's labels alone (the mesh as built), then with face
 // verification (DmOptions::verifyFaces), with the count of faces it found unresolved.
 //
-// Usage: dm_exactness [--points N] [--propagate on|off]   (N per scene and copy, default 2000;
-// --propagate sets DmOptions::propagateBackprojections, else its default)
+// Usage: dm_exactness [--points N] [--propagate on|off] [--walked]   (N per scene and copy,
+// default 2000; --propagate sets DmOptions::propagateBackprojections, else its default; --walked:
+// the moving scenes only, their engine built at frame 0 and updated through every frame, the
+// points compared at the last frame's pose)
 // Prints one line per scene and copy, then the totals; exits 0 (a report, not a test).
 
 #include <algorithm>
@@ -129,12 +131,22 @@ struct Tally {
 };
 
 Tally compare(const std::string& name, const Scene& scene, int points, std::uint64_t seed,
-              bool verifyFaces, bool propagate) {
-  const PosedScene posed = poseAt(scene, 0);
+              bool verifyFaces, bool propagate, bool walked) {
   const auto start = Clock::now();
   DiscontinuityMeshEngine engine(
       {.eeeSurfaces = true, .verifyFaces = verifyFaces, .propagateBackprojections = propagate});
-  engine.build(PosedScene(posed));
+  DynamicScene live(scene, 0);
+  if (walked) {
+    engine.build(live);
+    for (int frame = 1; frame < scene.frames; ++frame) {
+      const SceneChange change = live.changeToFrame(frame);
+      live.apply(change);
+      engine.update(live, change);
+    }
+  } else {
+    engine.build(PosedScene(live.posed()));
+  }
+  const PosedScene posed = live.posed();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);
@@ -180,6 +192,9 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
 int main(int argc, char** argv) {
   int points = 2000;
   bool propagate = DmOptions{}.propagateBackprojections;
+  bool walked = false;
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--walked")) walked = true;
   for (int i = 1; i + 1 < argc; ++i) {
     if (!std::strcmp(argv[i], "--points")) points = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--propagate")) propagate = !std::strcmp(argv[i + 1], "on");
@@ -194,6 +209,7 @@ int main(int argc, char** argv) {
   };
   std::vector<std::pair<std::string, std::string>> scenes = {
       {"cornell-box", root + "/scenes/cornell-box/cornell-box.json"},
+      {"cornell-everything-moves", root + "/scenes/cornell-box/cornell-everything-moves.json"},
       {"desk-145", root + "/scenes/office-desk/desk-145.json"},
       {"desk-307", root + "/scenes/office-desk/desk-307.json"},
       {"desk-475", root + "/scenes/office-desk/desk-475.json"},
@@ -203,14 +219,20 @@ int main(int argc, char** argv) {
     scenes.push_back(
         {"generated-300-seed" + std::to_string(seed),
          written("exact-gen-300-" + std::to_string(seed), generateSceneJson({300, seed, 2}))});
+  scenes.push_back(
+      {"generated-1000-three-moving-boxes",
+       written(
+           "exact-gen-1000-3",
+           generateSceneJson({.targetPolygons = 1000, .seed = 5, .frames = 4, .movingBoxes = 3}))});
   for (std::uint64_t seed : {11, 12, 13, 14})
     scenes.push_back({"rotated-boxes-seed" + std::to_string(seed),
                       written("exact-boxes-" + std::to_string(seed), rotatedBoxesJson(seed))});
 
   std::printf(
       "# dm vs exact reference, %d points per scene (half uniform, half penumbra); "
-      "backprojections %s\n",
-      points, propagate ? "propagated between faces (where verified)" : "from scratch");
+      "backprojections %s%s\n",
+      points, propagate ? "propagated between faces (where verified)" : "from scratch",
+      walked ? "; engines updated through every frame, compared at the last" : "");
   std::printf("%-34s %6s %6s %6s %9s %7s %s %s\n", "scene", "polys", "points", "differ", "worst",
               "build s", "unresolved/faces", "by mesh");
   for (bool verifyFaces : {false, true}) {
@@ -220,10 +242,11 @@ int main(int argc, char** argv) {
     std::uint64_t seed = 100;
     for (const auto& [name, path] : scenes) {
       Scene scene = loadScene(path);
-      const Tally a = compare(name, scene, points, seed, verifyFaces, propagate);
+      if (walked && scene.frames < 2) continue;
+      const Tally a = compare(name, scene, points, seed, verifyFaces, propagate, walked);
       triangulate(scene);
       const Tally b =
-          compare(name + " (triangles)", scene, points, seed + 7, verifyFaces, propagate);
+          compare(name + " (triangles)", scene, points, seed + 7, verifyFaces, propagate, walked);
       total.points += a.points;
       total.differ += a.differ;
       total.byMesh += a.byMesh;
