@@ -9,12 +9,14 @@
 //
 // Usage: dm_random_moves [--moves N] [--seed S]   (defaults 1000 and 1; exit 1 on any difference)
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -167,7 +169,8 @@ int main(int argc, char** argv) {
     auto start = Clock::now();
     live.apply(change);
     engine.update(live, change);
-    updateSeconds += std::chrono::duration<double>(Clock::now() - start).count();
+    const double update = std::chrono::duration<double>(Clock::now() - start).count();
+    updateSeconds += update;
     rebuilt += engine.stats().recomputedAll ? 1 : 0;
     reused += engine.stats().reusedFaces;
     recomputed += engine.stats().recomputedFaces;
@@ -176,12 +179,42 @@ int main(int argc, char** argv) {
                                live.frame());
     DiscontinuityMeshEngine full;
     full.build(scratch);
-    fullSeconds += std::chrono::duration<double>(Clock::now() - start).count();
-    const auto difference = firstDifference(buildIrradianceMesh(engine), buildIrradianceMesh(full));
+    const double rebuild = std::chrono::duration<double>(Clock::now() - start).count();
+    fullSeconds += rebuild;
+    if (update > 1 || rebuild > 1) {
+      std::printf("move %d (kind %d): slow, update %.2f s, full %.2f s\n", move, kind, update,
+                  rebuild);
+      std::fflush(stdout);
+    }
+    const IrradianceMesh updatedMesh = buildIrradianceMesh(engine);
+    const IrradianceMesh fullMesh = buildIrradianceMesh(full);
+    const auto difference = firstDifference(updatedMesh, fullMesh);
     if (difference) {
-      if (differences < 10)
+      if (differences < 10) {
         std::printf("move %d (kind %d): DIFFERS from a full recomputation: %s\n", move, kind,
                     difference->c_str());
+        // Which receivers' meshes differ, and their first differing face.
+        for (const WorldPolygon& p : live.posed().polygons) {
+          const ReceiverMesh* a = engine.meshOf(p.id);
+          const ReceiverMesh* b = full.meshOf(p.id);
+          if (!a || !b) continue;
+          std::optional<size_t> face;
+          for (size_t f = 0; !face && f < std::min(a->faces().size(), b->faces().size()); ++f)
+            if (!(a->faces()[f].samplePoint == b->faces()[f].samplePoint) ||
+                a->faceBoundary(int(f)) != b->faceBoundary(int(f)))
+              face = f;
+          if (!face && a->faces().size() == b->faces().size() && a->edges() == b->edges()) continue;
+          std::printf("  receiver %d: vertices %d vs %d, edges %d vs %d, faces %zu vs %zu\n", p.id,
+                      a->vertexCount(), b->vertexCount(), a->edgeCount(), b->edgeCount(),
+                      a->faces().size(), b->faces().size());
+          if (face) {
+            const Vec3 &x = a->faces()[*face].samplePoint, &y = b->faces()[*face].samplePoint;
+            std::printf("  face %zu: sample (%.17g %.17g %.17g) vs (%.17g %.17g %.17g)\n", *face,
+                        x.x, x.y, x.z, y.x, y.y, y.z);
+          }
+        }
+      }
+      std::fflush(stdout);
       ++differences;
     }
     if ((move + 1) % 100 == 0)

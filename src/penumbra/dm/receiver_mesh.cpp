@@ -180,6 +180,32 @@ struct ReceiverMesh::Impl {
     return cycles;
   }
 
+  // Does q lie strictly inside face f (not on its boundary), decided by exact predicates on f's
+  // boundary alone (crossing parity of a ray to the right, half-open in y)? Point location would
+  // answer the same in principle; measured, CGAL's landmarks answered differently for a point
+  // within an ulp of a sliver in two identical arrangements built by different histories.
+  bool strictlyInside(Arrangement::Face_const_handle f, const Point& q) const {
+    const auto parity = [&](Arrangement::Ccb_halfedge_const_circulator first) -> int {
+      bool inside = false;
+      auto c = first;
+      do {
+        const Point& a = c->source()->point();
+        const Point& b = c->target()->point();
+        const CGAL::Orientation turn = CGAL::orientation(a, b, q);
+        if (turn == CGAL::COLLINEAR && CGAL::collinear_are_ordered_along_line(a, q, b)) return 0;
+        const bool aBelow = CGAL::compare_y(a, q) != CGAL::LARGER;
+        const bool bBelow = CGAL::compare_y(b, q) != CGAL::LARGER;
+        if (aBelow && !bBelow && turn == CGAL::LEFT_TURN) inside = !inside;   // upward, q left
+        if (!aBelow && bBelow && turn == CGAL::RIGHT_TURN) inside = !inside;  // downward, q right
+      } while (++c != first);
+      return inside ? 1 : -1;
+    };
+    if (!f->has_outer_ccb() || parity(f->outer_ccb()) != 1) return false;
+    for (auto h = f->holes_begin(); h != f->holes_end(); ++h)
+      if (parity(*h) != -1) return false;
+    return true;
+  }
+
   // A point strictly inside face f, as far from its boundary as a cheap search finds: on the
   // vertical line through the middle of every slab between consecutive distinct vertex abscissae,
   // the boundary crossings alternate in and out of the face; take the middle of the inside
@@ -263,9 +289,7 @@ struct ReceiverMesh::Impl {
       if (ys.size() < i + 2) continue;
       const Point inside(x0, (ys[i] + ys[i + 1]) / 2);
       if (!fallback) fallback = inside;
-      const auto located = locator.locate(toPoint(toWorld(inside)));
-      const auto* face = boost::get<Arrangement::Face_const_handle>(&located);
-      if (face && *face == f) return inside;
+      if (strictlyInside(f, toPoint(toWorld(inside)))) return inside;
     }
     return fallback;
   }
@@ -733,9 +757,7 @@ const std::vector<MeshFace>& ReceiverMesh::faces() const {
 }
 
 bool ReceiverMesh::isInside(const Vec3& p, int face) const {
-  const auto result = impl_->locator.locate(impl_->toPoint(p));
-  const auto* f = boost::get<Arrangement::Face_const_handle>(&result);
-  return f && (*f)->data() == face;
+  return impl_->strictlyInside(impl_->faceHandles.at(size_t(face)), impl_->toPoint(p));
 }
 
 std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
