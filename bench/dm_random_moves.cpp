@@ -217,9 +217,11 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
       ++differences;
     }
-    if ((move + 1) % 100 == 0)
+    if ((move + 1) % 100 == 0) {
       std::printf("%d moves: %d differences; update %.3f s, full %.3f s in all (x%.2f)\n", move + 1,
                   differences, updateSeconds, fullSeconds, fullSeconds / updateSeconds);
+      std::fflush(stdout);
+    }
   }
   std::printf(
       "seed %llu, %d moves (floor %d, stacked %d, pushed together %d, floating %d, card on edge "
