@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -72,8 +73,8 @@ TEST(ExactReference, HoleInTheVisibleLight) {
   b.addPolygon("white", {{-0.1, -0.1, 1}, {0.1, -0.1, 1}, {0.1, 0.1, 1}, {-0.1, 0.1, 1}});
   const PosedScene scene = b.pose();
   const ExactReference reference(scene);
-  const double expected =
-      parallelRectangleFormFactor(-1, 1, -1, 1, 2) - parallelRectangleFormFactor(-0.2, 0.2, -0.2, 0.2, 2);
+  const double expected = parallelRectangleFormFactor(-1, 1, -1, 1, 2) -
+                          parallelRectangleFormFactor(-0.2, 0.2, -0.2, 0.2, 2);
   EXPECT_NEAR(reference.irradiance({0, 0, 0}, {0, 0, 1}).r, expected, 1e-14);
   const VisibleLight visible = reference.visibleLight({0, 0, 0}, {0, 0, 1}, 0);
   EXPECT_EQ(visible.rings.size(), 2u);
@@ -99,9 +100,9 @@ TEST(ExactReference, ClosedSolidIsOpaqueWhateverItsFacesOrientation) {
   // light's projection [-2,2]^2 at height 1..1.5 from the origin (it needs [-1,1]^2 at z = 1).
   test::SceneBuilder b = lightOverFloor();
   const double x0 = -1.2, x1 = 1.2, z0 = 1.0, z1 = 1.5;
-  for (const Polygon3& f : std::vector<Polygon3>{
-           {{x0, x0, z0}, {x0, x1, z0}, {x1, x1, z0}, {x1, x0, z0}},
-           {{x0, x0, z1}, {x1, x0, z1}, {x1, x1, z1}, {x0, x1, z1}}})
+  for (const Polygon3& f :
+       std::vector<Polygon3>{{{x0, x0, z0}, {x0, x1, z0}, {x1, x1, z0}, {x1, x0, z0}},
+                             {{x0, x0, z1}, {x1, x0, z1}, {x1, x1, z1}, {x0, x1, z1}}})
     b.addPolygon("white", f, "box");
   const PosedScene scene = b.pose();
   const ExactReference reference(scene);
@@ -139,6 +140,42 @@ TEST(ExactReference, GridAndBruteForceAgree) {
     const Vec3 p{u(rng), u(rng), 0};
     EXPECT_EQ(withGrid.irradiance(p, {0, 0, 1}).r, bruteForce.irradiance(p, {0, 0, 1}).r);
   }
+}
+
+// mayOcclude's contract (what the discontinuity mesh's update relies on to keep a face): a
+// polygon inside a box for which it says no never enters visibleLight's boolean operation. Checked
+// with each polygon's own bounds at random floor points; the run must see both answers, and
+// polygons that do occlude.
+TEST(ExactReference, MayOccludeIsFalseOnlyForPolygonsTheLightNeverConsiders) {
+  test::SceneBuilder b = lightOverFloor();
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-3, 3), h(0.2, 1.8), s(0.05, 0.4);
+  for (int i = 0; i < 40; ++i) {
+    const double x = u(rng), y = u(rng), z = h(rng), r = s(rng);
+    b.addPolygon("white", {{x - r, y - r, z}, {x + r, y - r, z + 0.1}, {x, y + r, z}});
+  }
+  const PosedScene scene = b.pose();
+  const UniformGrid grid(scene);
+  const ExactReference reference(scene, &grid);
+  const PolygonId light = scene.lights[0];
+  int excluded = 0, admitted = 0, occluding = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 p{u(rng), u(rng), 0};
+    const VisibleLight visible = reference.visibleLight(p, {0, 0, 1}, light);
+    for (const WorldPolygon& q : scene.polygons) {
+      if (q.id == light) continue;
+      const bool may = reference.mayOcclude(p, {0, 0, 1}, light, q.bounds);
+      const bool entered = std::find(visible.occluders.begin(), visible.occluders.end(), q.id) !=
+                           visible.occluders.end();
+      EXPECT_TRUE(may || !entered) << "polygon " << q.id << " at (" << p.x << ", " << p.y << ")";
+      excluded += may ? 0 : 1;
+      admitted += may ? 1 : 0;
+      occluding += entered ? 1 : 0;
+    }
+  }
+  EXPECT_GT(excluded, 1000);
+  EXPECT_GT(admitted, 100);
+  EXPECT_GT(occluding, 100);
 }
 
 }  // namespace
