@@ -40,6 +40,17 @@ test::SceneBuilder lightOverFloor() {
   return b;
 }
 
+// lightOverFloor with 40 small tilted triangles scattered between floor and light (drawn from rng).
+PosedScene lightOverScatteredTriangles(std::mt19937_64& rng) {
+  test::SceneBuilder b = lightOverFloor();
+  std::uniform_real_distribution<double> u(-3, 3), h(0.2, 1.8), s(0.05, 0.4);
+  for (int i = 0; i < 40; ++i) {
+    const double x = u(rng), y = u(rng), z = h(rng), r = s(rng);
+    b.addPolygon("white", {{x - r, y - r, z}, {x + r, y - r, z + 0.1}, {x, y + r, z}});
+  }
+  return b.pose();
+}
+
 TEST(ExactReference, UnoccludedMatchesClosedForm) {
   const PosedScene scene = lightOverFloor().pose();
   const ExactReference reference(scene);
@@ -126,14 +137,9 @@ TEST(ExactReference, TiltedReceiverClipsTheLight) {
 }
 
 TEST(ExactReference, GridAndBruteForceAgree) {
-  test::SceneBuilder b = lightOverFloor();
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(-3, 3), h(0.2, 1.8), s(0.05, 0.4);
-  for (int i = 0; i < 40; ++i) {
-    const double x = u(rng), y = u(rng), z = h(rng), r = s(rng);
-    b.addPolygon("white", {{x - r, y - r, z}, {x + r, y - r, z + 0.1}, {x, y + r, z}});
-  }
-  const PosedScene scene = b.pose();
+  std::uniform_real_distribution<double> u(-3, 3);
+  const PosedScene scene = lightOverScatteredTriangles(rng);
   const UniformGrid grid(scene);
   const ExactReference withGrid(scene, &grid), bruteForce(scene);
   for (int i = 0; i < 200; ++i) {
@@ -147,14 +153,9 @@ TEST(ExactReference, GridAndBruteForceAgree) {
 // with each polygon's own bounds at random floor points; the run must see both answers, and
 // polygons that do occlude.
 TEST(ExactReference, MayOccludeIsFalseOnlyForPolygonsTheLightNeverConsiders) {
-  test::SceneBuilder b = lightOverFloor();
   std::mt19937_64 rng(9);
-  std::uniform_real_distribution<double> u(-3, 3), h(0.2, 1.8), s(0.05, 0.4);
-  for (int i = 0; i < 40; ++i) {
-    const double x = u(rng), y = u(rng), z = h(rng), r = s(rng);
-    b.addPolygon("white", {{x - r, y - r, z}, {x + r, y - r, z + 0.1}, {x, y + r, z}});
-  }
-  const PosedScene scene = b.pose();
+  std::uniform_real_distribution<double> u(-3, 3);
+  const PosedScene scene = lightOverScatteredTriangles(rng);
   const UniformGrid grid(scene);
   const ExactReference reference(scene, &grid);
   const PolygonId light = scene.lights[0];

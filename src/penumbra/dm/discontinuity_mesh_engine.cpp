@@ -156,13 +156,6 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
   return true;
 }
 
-Box3 faceBounds(const ReceiverMesh& mesh, int face) {
-  Box3 box;
-  for (const Polygon3& cycle : mesh.faceBoundary(face))
-    for (const Vec3& p : cycle) box.extend(p);
-  return box;
-}
-
 }  // namespace
 
 bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshFace& face,
@@ -174,9 +167,12 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
   // its corners that lie strictly inside it (a function of its geometry) and away from EEE
   // polylines: the same where the polylines near every such point are the same.
   std::vector<Vec3> insets;
+  Box3 bounds;
   for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
-    for (const Vec3& corner : cycle)
+    for (const Vec3& corner : cycle) {
       insets.push_back(corner + (face.samplePoint - corner) * kCornerInset);
+      bounds.extend(corner);
+    }
   if (!sameEee) {
     const double near = nearEee();
     if (now.eeeSegments.near(face.samplePoint, near) != eeeBefore.near(face.samplePoint, near))
@@ -187,7 +183,7 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
   // Nothing moved (old or new bounds) through the box around the face and the lights: no cone
   // can admit a moved polygon. Else the cones themselves, from the sample and every inset point
   // (the probes among them).
-  if (!isCrossed(faceBounds(now.mesh, face.index), change)) return true;
+  if (!isCrossed(bounds, change)) return true;
   insets.push_back(face.samplePoint);
   const Vec3& normal = posed_->polygons[now.mesh.receiver()].plane.normal;
   for (const Vec3& p : insets)
@@ -240,7 +236,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       if (!sameFan(before, surface)) continue;
       surface.cells = std::move(before.cells);
       surface.intersections = std::move(before.intersections);
-      before.fan.source0 = Vec3{std::nan(""), 0, 0};  // taken: no other surface matches it
+      previousByFan.erase(it);  // taken: no other surface matches it
       if (std::any_of(surface.cells.begin(), surface.cells.end(),
                       [&](int cell) { return movedCells[cell] != 0; })) {
         recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
@@ -492,10 +488,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     ReceiverData* before = beforeIt != previous.end() ? &beforeIt->second : nullptr;
     std::map<SurfaceId, SurfaceId> renamed;
     const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
-    const bool keepMesh = before && !moved && before->eeeInputs == eee &&
-                          sameSegmentGeometry(before->inputs, segments, renamed);
-    const bool editMesh = before && !moved && !keepMesh;
     const bool sameEee = before && before->eeeInputs == eee;
+    const bool keepMesh =
+        sameEee && !moved && sameSegmentGeometry(before->inputs, segments, renamed);
+    const bool editMesh = before && !moved && !keepMesh;
     const double snap = kSegmentSnap * scene.extent.diagonalLength();
     ReceiverData data =
         keepMesh ? std::move(*before)

@@ -135,6 +135,29 @@ struct ReceiverMesh::Impl {
     }
     return out;
   }
+  // Remembers the inside faces among `faceList` as former faces (replacing those remembered).
+  template <typename Faces>
+  void rememberFaces(const Faces& faceList) {
+    former.clear();
+    for (Arrangement::Face_const_handle f : faceList) {
+      if (f->data() < 0) continue;
+      const MeshFace& face = faces[size_t(f->data())];
+      former.push_back({{face.samplePoint, face.area, face.index}, exactCycles(f)});
+    }
+  }
+  // The arrangement built from nothing in one sweep: `curves` and the receiver's outline (CGAL's
+  // sweep into a non-empty arrangement walks a new face's whole boundary each time an edge closes
+  // one, quadratic on a floor crossed by thousands of EEE polyline pieces: 245 s for 55k segments
+  // on a 10k-polygon room's floor; the construction sweep is not). Vertex data and cached faces
+  // go with the old arrangement.
+  void sweep(std::vector<Traits::Curve_2> curves) {
+    curves.insert(curves.end(), boundary.begin(), boundary.end());
+    arrangement.clear();
+    vertices.clear();
+    indexed.clear();
+    CGAL::insert(arrangement, curves.begin(), curves.end());
+    onlyBoundary = false;
+  }
 
   using Cycle = std::vector<Arrangement::Halfedge_const_handle>;
   // A boundary cycle of a face as its halfedges, starting where the sequence of its vertices'
@@ -566,18 +589,11 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
   std::vector<Traits::Curve_2> curves;
   curves.reserve(pieces.size());
   for (const Piece& p : pieces) curves.push_back(curveOf(p));
-  if (impl_->onlyBoundary && !curves.empty()) {
-    // The first insertion rebuilds the arrangement from nothing, outline and segments in one
-    // sweep: CGAL's sweep into a non-empty arrangement walks a new face's whole boundary each
-    // time an edge closes one, quadratic on a floor crossed by thousands of EEE polyline pieces
-    // (245 s for 55k segments on a 10k-polygon room's floor); the construction sweep is not.
-    curves.insert(curves.end(), impl_->boundary.begin(), impl_->boundary.end());
-    impl_->arrangement.clear();
-    impl_->vertices.clear();
-    impl_->indexed.clear();
-    impl_->onlyBoundary = false;
-  }
-  CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
+  // The first insertion builds the arrangement in one sweep (Impl::sweep).
+  if (impl_->onlyBoundary && !curves.empty())
+    impl_->sweep(std::move(curves));
+  else
+    CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
   impl_->pieces.insert(impl_->pieces.end(), std::make_move_iterator(pieces.begin()),
                        std::make_move_iterator(pieces.end()));
   impl_->indexFaces();
@@ -626,20 +642,11 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   for (SurfaceId id : added) changedPieces += after.at(id).size();
   if (changedPieces > now.size()) {
     if (stats) stats->rebuilt = true;
-    m.former.clear();
-    for (auto f = m.arrangement.faces_begin(); f != m.arrangement.faces_end(); ++f)
-      if (f->data() >= 0) {
-        const MeshFace& face = m.faces[size_t(f->data())];
-        m.former.push_back({{face.samplePoint, face.area, face.index}, m.exactCycles(f)});
-      }
+    m.rememberFaces(m.faceHandles);
     std::vector<Traits::Curve_2> curves;
     curves.reserve(now.size() + m.boundary.size());
     for (const Piece& p : now) curves.push_back(curveOf(p));
-    curves.insert(curves.end(), m.boundary.begin(), m.boundary.end());
-    m.arrangement.clear();
-    m.vertices.clear();
-    m.indexed.clear();
-    CGAL::insert(m.arrangement, curves.begin(), curves.end());
+    m.sweep(std::move(curves));
     m.pieces = std::move(now);
     return m.indexFaces();
   }
@@ -676,27 +683,20 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   }
   {
     std::vector<Arrangement::Face_const_handle> around;
-    const auto add = [&](Arrangement::Face_const_handle f) {
-      if (f->data() >= 0) around.push_back(f);
-    };
     for (auto e : doomed) {
-      add(e->face());
-      add(e->twin()->face());
+      around.push_back(e->face());
+      around.push_back(e->twin()->face());
     }
     for (auto v : touched) {
       if (v->is_isolated()) continue;
       auto c = v->incident_halfedges();
       const auto first = c;
-      do add(c->face());
+      do around.push_back(c->face());
       while (++c != first);
     }
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
-    m.former.clear();
-    for (auto f : around) {
-      const MeshFace& face = m.faces[size_t(f->data())];
-      m.former.push_back({{face.samplePoint, face.area, face.index}, m.exactCycles(f)});
-    }
+    m.rememberFaces(around);
   }
   for (auto e : doomed) m.arrangement.remove_edge(e, false, false);
   const auto lessXY = [](const Point& a, const Point& b) {
