@@ -165,7 +165,7 @@ TEST(ExactReference, MayOccludeIsFalseOnlyForPolygonsTheLightNeverConsiders) {
     const VisibleLight visible = reference.visibleLight(p, {0, 0, 1}, light);
     for (const WorldPolygon& q : scene.polygons) {
       if (q.id == light) continue;
-      const bool may = reference.mayOcclude(p, {0, 0, 1}, light, q.bounds);
+      const bool may = reference.mayOcclude(p, {0, 0, 1}, light, std::span(&q.bounds, 1));
       const bool entered = std::find(visible.occluders.begin(), visible.occluders.end(), q.id) !=
                            visible.occluders.end();
       EXPECT_TRUE(may || !entered) << "polygon " << q.id << " at (" << p.x << ", " << p.y << ")";

@@ -185,13 +185,15 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
   // (the probes among them).
   if (!isCrossed(bounds, change)) return true;
   insets.push_back(face.samplePoint);
+  std::vector<Box3> moved;
+  for (const ObjectMove& move : change.moves) {
+    moved.push_back(move.boundsBefore);
+    moved.push_back(move.boundsAfter);
+  }
   const Vec3& normal = posed_->polygons[now.mesh.receiver()].plane.normal;
   for (const Vec3& p : insets)
     for (PolygonId light : posed_->lights)
-      for (const ObjectMove& move : change.moves)
-        if (reference_->mayOcclude(p, normal, light, move.boundsBefore) ||
-            reference_->mayOcclude(p, normal, light, move.boundsAfter))
-          return false;
+      if (reference_->mayOcclude(p, normal, light, moved)) return false;
   return true;
 }
 

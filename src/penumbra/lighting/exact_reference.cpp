@@ -178,12 +178,15 @@ std::optional<ExactReference::Cone> ExactReference::coneOf(const Vec3& p, const 
 }
 
 bool ExactReference::mayOcclude(const Vec3& p, const Vec3& n, PolygonId light,
-                                const Box3& box) const {
+                                std::span<const Box3> boxes) const {
   const WorldPolygon& source = scene_.polygons[light];
   const auto cone = coneOf(p, n, source.vertices, source.plane);
-  // The test forEachCandidateOccluder applies to a polygon's bounds: a polygon inside `box`
+  if (!cone) return false;
+  // The test forEachCandidateOccluder applies to a polygon's bounds: a polygon inside a box
   // passes it only if the box does (each part of it is monotone in the box).
-  return cone && box.overlaps(cone->bounds) && !isBoxOutsideAny(box, cone->planes);
+  return std::any_of(boxes.begin(), boxes.end(), [&](const Box3& box) {
+    return box.overlaps(cone->bounds) && !isBoxOutsideAny(box, cone->planes);
+  });
 }
 
 template <typename ForEachCandidate>

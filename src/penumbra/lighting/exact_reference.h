@@ -59,11 +59,12 @@ class ExactReference {
                            std::optional<PolygonId> receiver = {}) const;
   // Unoccluded form factor of the whole light (clipped to p's front half-space).
   double unoccludedFormFactor(const Vec3& p, const Vec3& n, PolygonId light) const;
-  // May a polygon lying inside `box` enter the boolean operation of visibleLight(p, n, light)?
-  // False guarantees that no polygon inside the box is even considered there, so moving such a
-  // polygon within boxes for which this is false leaves visibleLight's result unchanged bit for bit
-  // (what the discontinuity mesh's update relies on to keep a face's backprojections).
-  bool mayOcclude(const Vec3& p, const Vec3& n, PolygonId light, const Box3& box) const;
+  // May a polygon lying inside one of `boxes` enter the boolean operation of
+  // visibleLight(p, n, light)? False guarantees that no polygon inside any of them is even
+  // considered there, so moving such a polygon within boxes for which this is false leaves
+  // visibleLight's result unchanged bit for bit (what the discontinuity mesh's update relies on to
+  // keep a face's backprojections). The cone is built once for all the boxes.
+  bool mayOcclude(const Vec3& p, const Vec3& n, PolygonId light, std::span<const Box3> boxes) const;
 
  private:
   // The clipping cone from p to the part of a light in front of p (nothing when no part is):
