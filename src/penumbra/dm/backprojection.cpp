@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <set>
+#include <limits>
+#include <tuple>
 
+#include "penumbra/geometry/edge_runs.h"
 #include "penumbra/lighting/form_factor.h"
 
 namespace penumbra {
@@ -57,6 +59,99 @@ Vec3 linePlane(const Vec3& c, const Vec3& d, const Vec3& normal, double offset) 
   return c + (d - c) * t;
 }
 
+// A shared edge is one line: keeps the first of the edges with the same two ends (either way
+// round), in their order.
+void withoutRepeatedEdges(std::vector<Segment>& edges) {
+  using Key = std::array<double, 6>;
+  const auto keyOf = [](const Segment& e) {
+    const auto lexLess = [](const Vec3& u, const Vec3& v) {
+      return std::tie(u.x, u.y, u.z) < std::tie(v.x, v.y, v.z);
+    };
+    const Vec3& lo = lexLess(e.a, e.b) ? e.a : e.b;
+    const Vec3& hi = lexLess(e.a, e.b) ? e.b : e.a;
+    return Key{lo.x, lo.y, lo.z, hi.x, hi.y, hi.z};
+  };
+  std::vector<std::pair<Key, size_t>> keys;
+  keys.reserve(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) keys.push_back({keyOf(edges[i]), i});
+  std::sort(keys.begin(), keys.end());
+  std::vector<char> repeated(edges.size(), 0);
+  for (size_t i = 1; i < keys.size(); ++i)
+    if (keys[i].first == keys[i - 1].first) repeated[keys[i].second] = 1;
+  size_t kept = 0;
+  for (size_t i = 0; i < edges.size(); ++i)
+    if (!repeated[i]) edges[kept++] = edges[i];
+  edges.resize(kept);
+}
+
+// The rectangle bounding a visible region's rings in the light plane's frame, and the cone from
+// the point over it. A ring vertex x is labelled by an occluder edge only if the ray from p to x
+// passes within tolerance·s of it (projectsThrough, s ≤ 1 + 1e-12 the ray's parameter), so only
+// if the edge comes within that distance of the cone: an edge lying beyond one of the cone's
+// side planes by more than `margin` (≥ the tolerance, plus rounding) cannot label any vertex.
+// Likewise a projected occluder vertex farther than `margin` outside the rectangle.
+struct RingBounds {
+  PlaneFrame frame;
+  Vec2 low, high;
+  std::array<Plane, 4> sides{};  // through the apex, unit normals pointing out of the cone
+  bool hasCone = false;
+  double margin = 0;
+
+  // Which side planes the point lies beyond by more than the margin, one bit each: an edge
+  // whose ends share a bit is separated from the cone, a vertex with any bit projects outside.
+  unsigned outsideMask(const Vec3& x) const {
+    if (!hasCone) return 0;
+    unsigned mask = 0;
+    for (int i = 0; i < 4; ++i) mask |= sides[i].signedDistance(x) > margin ? 1u << i : 0u;
+    return mask;
+  }
+  // Whether every point of the box has a bit set (the same one): then every edge of a run inside
+  // it is separated and every vertex projects outside, as testing each would find.
+  bool separates(const Box3& box) const {
+    if (!hasCone) return false;
+    return std::any_of(sides.begin(), sides.end(), [&](const Plane& side) {
+      return signedDistanceRange(side, box).first > margin;
+    });
+  }
+  bool holds(const Vec3& onLightPlane) const {
+    const Vec2 q = frame.toLocal(onLightPlane);
+    return q.x >= low.x - margin && q.x <= high.x + margin && q.y >= low.y - margin &&
+           q.y <= high.y + margin;
+  }
+};
+
+RingBounds ringBoundsOf(const std::vector<Polygon3>& rings, const Plane& lightPlane,
+                        const Vec3& apex, double margin) {
+  RingBounds bounds;
+  bounds.frame = PlaneFrame::fromPlane(lightPlane, rings.front().front());
+  bounds.margin = margin;
+  const double inf = std::numeric_limits<double>::infinity();
+  bounds.low = {inf, inf};
+  bounds.high = {-inf, -inf};
+  for (const Polygon3& ring : rings)
+    for (const Vec3& x : ring) {
+      const Vec2 q = bounds.frame.toLocal(x);
+      bounds.low = {std::min(bounds.low.x, q.x), std::min(bounds.low.y, q.y)};
+      bounds.high = {std::max(bounds.high.x, q.x), std::max(bounds.high.y, q.y)};
+    }
+  const std::array<Vec3, 4> corners{
+      bounds.frame.toWorld(bounds.low), bounds.frame.toWorld({bounds.high.x, bounds.low.y}),
+      bounds.frame.toWorld(bounds.high), bounds.frame.toWorld({bounds.low.x, bounds.high.y})};
+  const Vec3 centre = bounds.frame.toWorld((bounds.low + bounds.high) * 0.5);
+  for (int i = 0; i < 4; ++i) {
+    Vec3 m = cross(corners[i] - apex, corners[(i + 1) % 4] - apex);
+    const double size = length(m);
+    // A point (nearly) in the light's plane or a flat rectangle has no cone worth testing: then
+    // every feature is kept.
+    if (!(size > 1e-300) || !std::isfinite(size)) return bounds;
+    m = m / size;
+    if (dot(m, centre - apex) > 0) m = -m;
+    bounds.sides[i] = Plane{m, dot(m, apex)};
+  }
+  bounds.hasCone = true;
+  return bounds;
+}
+
 }  // namespace
 
 BackprojectionBuilder::BackprojectionBuilder(const PosedScene& scene, const UniformGrid& grid,
@@ -104,28 +199,56 @@ Backprojection BackprojectionBuilder::labelRegion(const VisibleLight& visible, c
   bool clippedByHorizon = false;
   for (const Vec3& v : lv) clippedByHorizon = clippedByHorizon || dot(n, v - p) < 0;
 
+  // Only features that pass near a ring vertex can label it, and a polygon of many vertices (a
+  // finely tessellated disc) crosses the cone from p in a few of them: features are kept only
+  // within reach of the cone from p over the rings' bounding rectangle, so that labelling costs
+  // little more per feature than this test. The test is conservative (below), so the labels are
+  // those that testing every feature would give.
+  const RingBounds bounds = ringBoundsOf(visible.rings, light.plane, p, 2 * tolerance + coplanar);
+
   // Candidate occluder features: the edges (a shared edge is one line, listed once) and vertices
   // of the polygons that entered the visible region's boolean operation.
   std::vector<Segment> edges;
   std::vector<std::pair<Vec3, FeatureRef>> projectedVertices;
-  std::set<std::pair<std::array<double, 3>, std::array<double, 3>>> seenEdges;
-  const auto key = [](const Vec3& v) { return std::array<double, 3>{v.x, v.y, v.z}; };
   for (PolygonId id : visible.occluders) {
     const WorldPolygon& q = scene_.polygons[id];
     const size_t k = q.vertices.size();
-    for (size_t c = 0; c < k; ++c) {
+    const auto visit = [&](size_t c) {  // the edge from corner c, and corner c
       const Vec3& a = q.vertices[c];
-      const Vec3& b = q.vertices[(c + 1) % k];
-      // An edge in the horizon plane projects onto the horizon line: the horizon labels it.
-      const bool inHorizon =
-          std::abs(dot(n, a - p)) <= coplanar && std::abs(dot(n, b - p)) <= coplanar;
-      const auto ends = key(a) < key(b) ? std::pair{key(a), key(b)} : std::pair{key(b), key(a)};
-      if (!inHorizon && seenEdges.insert(ends).second) edges.push_back({a, b, {id, int(c)}});
+      const Vec3& b = q.vertices[c + 1 == k ? 0 : c + 1];
+      const unsigned maskA = bounds.outsideMask(a);
+      if ((maskA & bounds.outsideMask(b)) == 0) {
+        // An edge in the horizon plane projects onto the horizon line: the horizon labels it.
+        const bool inHorizon =
+            std::abs(dot(n, a - p)) <= coplanar && std::abs(dot(n, b - p)) <= coplanar;
+        if (!inHorizon) edges.push_back({a, b, {id, int(c)}});
+      }
+      // A vertex beyond a side plane by more than the margin and in front of p projects beyond
+      // the rectangle's edge by more (central projection from p onto the light plane magnifies
+      // distances to planes through p by 1/s ≥ 1).
+      if (maskA != 0) return;
       const double drop = pointHeight - light.plane.signedDistance(a);
-      if (drop > 0 && light.plane.signedDistance(a) > 0)
-        projectedVertices.push_back({p + (a - p) * (pointHeight / drop), {id, int(c)}});
+      if (drop > 0 && light.plane.signedDistance(a) > 0) {
+        const Vec3 projected = p + (a - p) * (pointHeight / drop);
+        if (bounds.holds(projected)) projectedVertices.push_back({projected, {id, int(c)}});
+      }
+    };
+    if (q.edgeRuns.empty()) {
+      for (size_t c = 0; c < k; ++c) visit(c);
+      continue;
     }
+    // Each run's box holds its edges' ends (edgeRuns), so a separated run has nothing to offer.
+    for (const VertexRun& run : q.edgeRuns)
+      if (!bounds.separates(run.box))
+        for (size_t c = run.begin; c < run.end; ++c) visit(c);
   }
+
+  withoutRepeatedEdges(edges);
+  std::vector<size_t> byX(projectedVertices.size());
+  for (size_t i = 0; i < byX.size(); ++i) byX[i] = i;
+  std::sort(byX.begin(), byX.end(), [&](size_t i, size_t j) {
+    return projectedVertices[i].first.x < projectedVertices[j].first.x;
+  });
 
   for (const Polygon3& ring : visible.rings) {
     std::vector<BackprojectionVertex> cycle;
@@ -139,12 +262,20 @@ Backprojection BackprojectionBuilder::labelRegion(const VisibleLight& visible, c
         cycle.push_back(label);
         continue;
       }
-      const auto occluderCorner =
-          std::find_if(projectedVertices.begin(), projectedVertices.end(),
-                       [&](const auto& v) { return distance(v.first, x) <= tolerance; });
-      if (occluderCorner != projectedVertices.end()) {
+      // The first projected vertex (in visiting order) within tolerance: only those within it
+      // along x can be, found in the order sorted by x.
+      // (The window is wider than the tolerance by more than the rounding of these bounds.)
+      const double reach = 2 * tolerance + 1e-15 * std::abs(x.x);
+      size_t occluderCorner = projectedVertices.size();
+      for (auto it = std::lower_bound(
+               byX.begin(), byX.end(), x.x - reach,
+               [&](size_t i, double v) { return projectedVertices[i].first.x < v; });
+           it != byX.end() && projectedVertices[*it].first.x <= x.x + reach; ++it)
+        if (*it < occluderCorner && distance(projectedVertices[*it].first, x) <= tolerance)
+          occluderCorner = *it;
+      if (occluderCorner != projectedVertices.size()) {
         label.kind = BackprojectionVertexKind::kOccluderVertex;
-        label.first = occluderCorner->second;
+        label.first = projectedVertices[occluderCorner].second;
         cycle.push_back(label);
         continue;
       }

@@ -60,28 +60,34 @@ double diameter(const Polygon3& polygon) {
 
 Polygon3 clipByPlane(const Polygon3& polygon, const Plane& plane) {
   Polygon3 out;
-  const size_t n = polygon.size();
-  if (n == 0) return out;
-  out.reserve(n + 2);
-  for (size_t i = 0; i < n; ++i) {
-    const Vec3& a = polygon[i];
-    const Vec3& b = polygon[(i + 1) % n];
-    const double da = plane.signedDistance(a);
-    const double db = plane.signedDistance(b);
-    if (da >= 0) out.push_back(a);
-    if ((da >= 0) != (db >= 0)) {
-      // Compute the crossing from the lexicographically smaller endpoint, so that the two polygons
-      // sharing this edge (traversing it in opposite directions) get bit-identical points: no
-      // slivers between the clipped pieces of a closed solid.
-      const bool fromA = std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
-      const Vec3& p0 = fromA ? a : b;
-      const Vec3& p1 = fromA ? b : a;
-      const double d0 = fromA ? da : db, d1 = fromA ? db : da;
-      out.push_back(p0 + (p1 - p0) * (d0 / (d0 - d1)));
-    }
-  }
-  if (out.size() < 3) out.clear();
+  clipByPlane(polygon, plane, out);
   return out;
+}
+
+void clipByPlane(const Polygon3& polygon, const Plane& plane, Polygon3& out) {
+  out.clear();
+  const size_t n = polygon.size();
+  if (n == 0) return;
+  out.reserve(n + 2);
+  for (size_t i = 0; i < n; ++i)
+    clipEdgeByPlane(polygon[i], polygon[i + 1 == n ? 0 : i + 1], plane, out);
+  if (out.size() < 3) out.clear();
+}
+
+void clipEdgeByPlane(const Vec3& a, const Vec3& b, const Plane& plane, Polygon3& out) {
+  const double da = plane.signedDistance(a);
+  const double db = plane.signedDistance(b);
+  if (da >= 0) out.push_back(a);
+  if ((da >= 0) != (db >= 0)) {
+    // Compute the crossing from the lexicographically smaller endpoint, so that the two polygons
+    // sharing this edge (traversing it in opposite directions) get bit-identical points: no
+    // slivers between the clipped pieces of a closed solid.
+    const bool fromA = std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+    const Vec3& p0 = fromA ? a : b;
+    const Vec3& p1 = fromA ? b : a;
+    const double d0 = fromA ? da : db, d1 = fromA ? db : da;
+    out.push_back(p0 + (p1 - p0) * (d0 / (d0 - d1)));
+  }
 }
 
 PlaneFrame PlaneFrame::fromPlane(const Plane& plane, const Vec3& origin) {

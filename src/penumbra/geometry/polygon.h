@@ -31,6 +31,12 @@ double diameter(const Polygon3& polygon);
 // polygon the result may contain zero-width bridges along the plane; its area is exact, and
 // non-zero winding fill ignores the bridges. Returns an empty loop when nothing is left.
 Polygon3 clipByPlane(const Polygon3& polygon, const Plane& plane);
+// The same into `out` (not aliasing `polygon`), reusing its storage: for callers clipping many
+// polygons in a loop, where allocating each result costs more than clipping.
+void clipByPlane(const Polygon3& polygon, const Plane& plane, Polygon3& out);
+// One Sutherland-Hodgman step: what the edge a→b adds to the clipped loop (a if it is in front,
+// then the crossing if the edge crosses the plane).
+void clipEdgeByPlane(const Vec3& a, const Vec3& b, const Plane& plane, Polygon3& out);
 
 // 2D frame of a plane: (u, v, n) right-handed, so a loop that is counter-clockwise around n in 3D
 // is counter-clockwise in (u, v).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "penumbra/geometry/edge_runs.h"
 #include "penumbra/lighting/form_factor.h"
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -217,11 +218,20 @@ VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const P
   forEachCandidate(shaft, cone, [&](const WorldPolygon& q) {
     if (q.id == lightId || q.id == receiver) return;
     if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) return;
-    Polygon3 piece = q.vertices;
-    for (const Plane& plane : cone) {
-      piece = clipByPlane(piece, plane);
-      if (piece.empty()) return;
+    // Two buffers reused across polygons and calls: the clipping itself is cheap, allocating
+    // a copy of a polygon of many vertices per plane was not.
+    // A polygon of many vertices is clipped run by run (edge_runs.h): runs wholly outside a
+    // plane are skipped, runs wholly inside carried to the next plane as runs, so the cost
+    // follows the part of the polygon near the cone, not the whole polygon.
+    thread_local Polygon3 piece, next;
+    thread_local std::vector<VertexRun> pieceRuns, nextRuns;
+    clipByPlane(q.vertices, q.edgeRuns, cone.front(), piece, pieceRuns);
+    for (size_t i = 1; i < cone.size() && !piece.empty(); ++i) {
+      clipByPlane(piece, pieceRuns, cone[i], next, nextRuns);
+      std::swap(piece, next);
+      std::swap(pieceRuns, nextRuns);
     }
+    if (piece.empty()) return;
     ClipperLib::Path path;
     path.reserve(piece.size());
     bool inFront = false;

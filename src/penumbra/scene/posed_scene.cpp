@@ -18,6 +18,7 @@ void posePolygon(const SceneObject& object, int k, const Transform& transform, W
   wp.plane = supportingPlane(wp.vertices);
   wp.area = area(wp.vertices);
   wp.bounds = boundingBox(wp.vertices);
+  wp.edgeRuns = edgeRuns(wp.vertices);
 }
 
 void recomputeBounds(PosedScene& posed) {

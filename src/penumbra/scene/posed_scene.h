@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "penumbra/geometry/edge_runs.h"
 #include "penumbra/scene/scene.h"
 #include "penumbra/scene/scene_change.h"
 
@@ -18,6 +19,8 @@ struct WorldPolygon {
   Plane plane;        // unit normal towards the front
   double area = 0;
   Box3 bounds;
+  // edgeRuns(vertices): empty unless the polygon has many vertices (geometry/edge_runs.h).
+  std::vector<VertexRun> edgeRuns;
   bool isLight = false;
 };
 
