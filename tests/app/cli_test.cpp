@@ -357,6 +357,29 @@ TEST(Cli, RepeatedVerticesGiveTheSameShadowsAsWithoutThem) {
   }
 }
 
+// A tolerance finer than the scene warrants stops at the refinement budget with a message naming
+// --tolerance and the budget, instead of taking all memory; the budget is an option.
+TEST(Cli, RadiosityStopsAtItsBudget) {
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const RunResult fine = runPenumbra("radiosity " + scene + " --frames 0:0 --tolerance 1e-12");
+  EXPECT_EQ(fine.exitCode, 2) << fine.output;
+  EXPECT_NE(fine.output.find("--tolerance"), std::string::npos) << fine.output;
+  EXPECT_NE(fine.output.find("1000000 links"), std::string::npos) << fine.output;
+  EXPECT_NE(fine.output.find("--max-links"), std::string::npos) << fine.output;
+  const RunResult elements =
+      runPenumbra("radiosity " + scene + " --frames 0:0 --tolerance 1e-2 --max-elements 50");
+  EXPECT_EQ(elements.exitCode, 2) << elements.output;
+  EXPECT_NE(elements.output.find("50 elements"), std::string::npos) << elements.output;
+  // The default tolerance fits the default budget; a budget past the range is a usage error.
+  const RunResult fits = runPenumbra("radiosity " + scene + " --frames 0:0 --tolerance 1e-2");
+  EXPECT_EQ(fits.exitCode, 0) << fits.output;
+  for (const char* value : {"0", "-3", "1e15", "4294967297000000000000"}) {
+    const RunResult r = runPenumbra("radiosity " + scene + " --frames 0:0 --max-links " + value);
+    EXPECT_EQ(r.exitCode, 1) << value << ": " << r.output;
+  }
+}
+
 // Numbers that used to be accepted silently: a negative frame range, a NaN tolerance, an integer
 // that wraps in the scene file, a keyframe whose frame count would overflow.
 TEST(Cli, OutOfRangeNumbersAreRefused) {

@@ -22,6 +22,23 @@ const CLI::Validator kPositiveFinite(
     },
     "POSITIVE");
 
+// The radiosity solver's budget on what refinement creates (RadiosityOptions::maxLinks). A
+// number past the range (which CLI11 would saturate to the largest long long) is refused.
+constexpr long long kLargestBudget = 1'000'000'000'000;
+void addRadiosityBudget(CLI::App& command, penumbra::RadiosityOptions& options) {
+  command
+      .add_option("--max-links", options.maxLinks,
+                  "Radiosity: most links refinement may create (a finer tolerance stops with "
+                  "an error naming it)")
+      ->capture_default_str()
+      ->check(CLI::Range(1LL, kLargestBudget));
+  command
+      .add_option("--max-elements", options.maxElements,
+                  "Radiosity: most elements refinement may create")
+      ->capture_default_str()
+      ->check(CLI::Range(1LL, kLargestBudget));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -96,6 +113,9 @@ int main(int argc, char** argv) {
       ->add_option("--tolerance", render.radiosity.tolerance, "Radiosity: refinement tolerance")
       ->capture_default_str()
       ->check(kPositiveFinite);
+  for (auto [command, options] :
+       {std::pair{probeCommand, &probe.radiosity}, std::pair{renderCommand, &render.radiosity}})
+    addRadiosityBudget(*command, *options);
 
   RadiosityCommandOptions radiosity;
   CLI::App* radiosityCommand =
@@ -106,6 +126,7 @@ int main(int argc, char** argv) {
   radiosityCommand->add_option("--tolerance", radiosity.radiosity.tolerance, "Refinement tolerance")
       ->capture_default_str()
       ->check(kPositiveFinite);
+  addRadiosityBudget(*radiosityCommand, radiosity.radiosity);
   radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
 
   ShadowsOptions shadows;

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 #include "penumbra/base/check.h"
 #include "penumbra/base/input_error.h"
@@ -216,9 +217,19 @@ bool RadiositySolver::canSplit(NodeRef n) const {
   return elements_[n.index].area > minArea_;
 }
 
+InputError RadiositySolver::budgetExceeded(const char* what, long long limit) const {
+  std::ostringstream problem;
+  problem << "refining to tolerance " << options_.tolerance << " needs more than " << limit << " "
+          << what << " (the solver's budget: --max-" << what
+          << "); use a larger tolerance or raise the budget";
+  return InputError("--tolerance", problem.str());
+}
+
 std::vector<NodeRef> RadiositySolver::split(NodeRef n) {
   if (n.isCluster()) return clusters_[n.index].children;
   if (elements_[n.index].isLeaf()) {
+    if ((long long)elements_.size() + 4 > options_.maxElements)
+      throw budgetExceeded("elements", options_.maxElements);
     const Element parent = elements_[n.index];
     const int first = int(elements_.size());
     const auto loops = parent.childVertices();

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/base/input_error.h"
 #include "penumbra/base/parallel_for.h"
 
 namespace penumbra {
@@ -121,6 +122,8 @@ std::vector<int> RadiositySolver::replaceLinks(
       c.link.receiver = a;
       c.link.source = b;
     }
+  if ((long long)(links_.size() + candidates.size()) > options_.maxLinks)
+    throw budgetExceeded("links", options_.maxLinks);
   parallelFor((long long)candidates.size(), options_.threads, [&](long long i) {
     Candidate& c = candidates[i];
     if (!c.mustRefine) estimate(c.link, c.counters, &c.pointValues, &c.shaft);
