@@ -94,6 +94,8 @@ struct GenerateOptions {
   std::uint64_t seed = 1;
   int frames = 4;
   int movingBoxes = 1;
+  int disc = 0;      // instead of a room: a disc of this many vertices over a floor
+  int cylinder = 0;  // ... or a closed cylinder of this many sides
   std::string output;
 };
 int runGenerate(const GenerateOptions& options, const CommonOptions& common);

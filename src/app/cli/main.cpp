@@ -159,6 +159,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   generateCommand->add_option("--moving-boxes", generate.movingBoxes, "Boxes moving above the desk")
       ->check(CLI::Range(1, 4));
+  CLI::Option* disc =
+      generateCommand
+          ->add_option("--disc", generate.disc,
+                       "Instead of a room: a disc of N vertices floating over a floor under a "
+                       "square light (the stress case for polygons of many vertices)")
+          ->check(CLI::Range(3, 100000));
+  generateCommand
+      ->add_option("--cylinder", generate.cylinder,
+                   "Instead of a room: a closed cylinder of N sides over a floor")
+      ->check(CLI::Range(3, 100000))
+      ->excludes(disc);
   generateCommand->add_option("-o,--output", generate.output, "Output scene JSON")->required();
 
   try {

@@ -109,7 +109,8 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                           {"unresolved_face", answers[Answer::kUnresolvedFace]},
                           {"sliver_face", answers[Answer::kSliverFace]},
                           {"near_eee_polyline", answers[Answer::kNearEeePolyline]},
-                          {"degenerate", answers[Answer::kDegenerate]}};
+                          {"degenerate", answers[Answer::kDegenerate]},
+                          {"unlabelled", answers[Answer::kUnlabelled]}};
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
     RadiositySolver solver(withThreads(options.radiosity, common));

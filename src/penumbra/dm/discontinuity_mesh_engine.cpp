@@ -811,6 +811,9 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
     if (answering->unresolved) return atPointFor(Answer::kUnresolvedFace);
     if (answering->sliver) return atPointFor(Answer::kSliverFace);
   }
+  // An unlabelled backprojection has nothing to evaluate at p: it would be computed at p.
+  for (const Backprojection& bp : answering->perLight)
+    if (!bp.isLabelled) return atPointFor(Answer::kUnlabelled);
   const Rgb e = backprojections_->irradiance(answering->perLight, p, n, match->polygon);
   if (isDegenerate(e)) return atPointFor(Answer::kDegenerate);
   return Query{withoutRoundingBelowZero(e), Answer::kMesh};

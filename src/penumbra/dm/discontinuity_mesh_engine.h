@@ -163,6 +163,8 @@ class DiscontinuityMeshEngine {
     kSliverFace,       // a face too thin to carry labels
     kNearEeePolyline,  // within the EEE polylines' tolerance of an approximated conic
     kDegenerate,       // the backprojection gave no finite non-negative value (contact points)
+    kUnlabelled,       // the face's backprojection could not be labelled at its sample (more or
+                       // fewer than two features meet at one of its vertices)
   };
   struct Query {
     Rgb irradiance;

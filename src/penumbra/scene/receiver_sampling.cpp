@@ -48,3 +48,35 @@ std::vector<ReceiverPoint> sampleReceiverPoints(const PosedScene& scene, int cou
 }
 
 }  // namespace penumbra
+
+namespace penumbra {
+
+std::vector<ReceiverPoint> vertexShadowPoints(const PosedScene& scene, PolygonId receiver,
+                                              double step) {
+  const WorldPolygon& r = scene.polygons[receiver];
+  const PlaneFrame frame = PlaneFrame::fromPlane(r.plane, r.vertices[0]);
+  Polygon2 loop;
+  for (const Vec3& v : r.vertices) loop.push_back(frame.toLocal(v));
+  std::vector<ReceiverPoint> points;
+  for (PolygonId light : scene.lights)
+    for (const Vec3& corner : scene.polygons[light].vertices) {
+      const double height = r.plane.signedDistance(corner);
+      if (!(height > 0)) continue;  // the receiver's front faces away from this corner
+      for (const WorldPolygon& q : scene.polygons) {
+        if (q.id == receiver || q.id == light) continue;
+        for (const Vec3& v : q.vertices) {
+          const double drop = height - r.plane.signedDistance(v);
+          if (!(drop > 0)) continue;  // v is not between the corner and the receiver's plane
+          const Vec2 hit = frame.toLocal(corner + (v - corner) * (height / drop));
+          for (const Vec2 offset :
+               {Vec2{0, 0}, Vec2{step, 0}, Vec2{-step, 0}, Vec2{0, step}, Vec2{0, -step}}) {
+            const Vec2 x = hit + offset;
+            if (containsPoint(loop, x)) points.push_back({frame.toWorld(x), r.plane.normal, r.id});
+          }
+        }
+      }
+    }
+  return points;
+}
+
+}  // namespace penumbra

@@ -18,4 +18,11 @@ struct ReceiverPoint {
 std::vector<ReceiverPoint> sampleReceiverPoints(const PosedScene& scene, int count,
                                                 std::uint64_t seed);
 
+// Adversarial points on `receiver`: where the line from each light vertex through each vertex of
+// the other polygons meets it (the corners of EV events, where mesh faces meet), each also moved
+// by `step` to either side along two directions of the receiver's plane; only points inside the
+// receiver polygon, on its front side seen from the light vertex.
+std::vector<ReceiverPoint> vertexShadowPoints(const PosedScene& scene, PolygonId receiver,
+                                              double step);
+
 }  // namespace penumbra
