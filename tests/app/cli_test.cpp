@@ -180,6 +180,21 @@ TEST(Cli, InfoReportsCounts) {
   EXPECT_NE(r.output.find("\"closed\": false"), std::string::npos);
 }
 
+// A closed scene made of objects open by themselves (the Cornell box's walls) says both without
+// the second reading as a contradiction of the first.
+TEST(Cli, InfoTellsTheClosedSceneFromItsOpenObjects) {
+  const RunResult r = runPenumbra("info " + std::string(PENUMBRA_SOURCE_DIR) +
+                                  "/scenes/cornell-box/cornell-box.json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("closed           yes (every edge of the scene is shared"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("open objects     5, each open by itself (closed by the others):"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("  room-white: 8 open edges"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace penumbra
 

@@ -54,15 +54,20 @@ int runInfo(const InfoOptions& options, const CommonOptions&) {
               posed.bounds.max.z);
   std::printf("bounds (frames)  [%g, %g, %g] .. [%g, %g, %g]\n", allFrames.min.x, allFrames.min.y,
               allFrames.min.z, allFrames.max.x, allFrames.max.y, allFrames.max.z);
+  // The scene's closedness is of the whole; objects open by themselves (a room's walls, closed
+  // by its floor) are listed under their own heading, so that "yes" is not read as contradicted.
   if (closedness.isSceneClosed)
-    std::printf("closed           yes\n");
+    std::printf("closed           yes (every edge of the scene is shared by two polygons)\n");
   else
     std::printf("closed           no (%d open edges, length %g)\n", closedness.sceneOpenEdgeCount,
                 closedness.sceneOpenEdgeLength);
+  if (!openObjects.empty())
+    std::printf("open objects     %zu, each open by itself%s:\n", openObjects.size(),
+                closedness.isSceneClosed ? " (closed by the others)" : "");
   for (const ObjectClosedness& c : closedness.objects)
     if (!c.isClosed)
-      std::printf("  open by itself %s (%d open edges, length %g)\n",
-                  scene.objects[c.objectIndex].name.c_str(), c.openEdgeCount, c.openEdgeLength);
+      std::printf("  %s: %d open edges, length %g\n", scene.objects[c.objectIndex].name.c_str(),
+                  c.openEdgeCount, c.openEdgeLength);
   return kOk;
 }
 
