@@ -297,11 +297,12 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
   std::printf("[ info     ] %d of %d edge midpoints answered by the mesh\n", byMesh, checked);
   EXPECT_GT(checked, 500);
   EXPECT_EQ(failures, 0) << failures << " of " << byMesh;
-  // Measured (session 9): 2,496 of 3,052 (81.8%); 754 (24.7%) before the face near an EEE
-  // polyline was chosen by the exact side of each nearby EEE surface instead of answering at the
-  // point. What is left: midpoints whose side test is within rounding of the surface, and those
-  // where no nearby face's sample is certain (issue 21, item 3; its target is 99%).
-  EXPECT_GE(byMesh, 0.8 * checked);
+  // Measured (session 11): 2,857 of 3,052 (93.6%); 2,496 (81.8%) when a point within 1e-9 of an
+  // EEE surface, or a face whose sample lay near a polyline, left the choice undecided; 754
+  // (24.7%) before the face near an EEE polyline was chosen by the exact side of each nearby EEE
+  // surface. What is left: midpoints in the sliver between a polyline and its true conic, where
+  // no face of the mesh carries their labels (issue 21, item 3; its target is 99%).
+  EXPECT_GE(byMesh, 0.93 * checked);
 }
 
 // Faces that face verification leaves unresolved (a missing event crosses them; they are

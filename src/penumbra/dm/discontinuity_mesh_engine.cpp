@@ -821,28 +821,45 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
 
 std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data, int located,
                                                         const Vec3& p) const {
-  // The EEE surfaces of the polylines near p, and p's side of each.
-  std::vector<const EeeSurface*> near;
-  data.eeeSegments.forEachNear(p, nearEee(), [&](size_t index) {
-    const SurfaceId id = data.eeeSurfaceIds[index];
-    const EeeSurface* s = &eeeSurfaces_[size_t(id) - surfaces_.size()];
-    if (std::find(near.begin(), near.end(), s) == near.end()) near.push_back(s);
-    return true;
-  });
-  constexpr double kOnSurface = 1e-9;  // relative side values this small: on the surface
-  std::vector<double> sides;
-  for (const EeeSurface* s : near) {
-    const double side = eeeSide(*s, *posed_, *adjacency_, p);
+  // The EEE surfaces of the polylines near a point (within their tolerance of it).
+  const auto surfacesNear = [&](const Vec3& x) {
+    std::vector<const EeeSurface*> found;
+    data.eeeSegments.forEachNear(x, nearEee(), [&](size_t index) {
+      const SurfaceId id = data.eeeSurfaceIds[index];
+      const EeeSurface* s = &eeeSurfaces_[size_t(id) - surfaces_.size()];
+      if (std::find(found.begin(), found.end(), s) == found.end()) found.push_back(s);
+      return true;
+    });
+    return found;
+  };
+  // Relative side values this small are on the surface: eeeSide rounds at about 1e-12 (its
+  // scaling), so the sign of anything ten times larger is certain.
+  constexpr double kOnSurface = 1e-11;
+  const auto sideOf = [&](const EeeSurface& s, const Vec3& x) -> std::optional<bool> {
+    const double side = eeeSide(s, *posed_, *adjacency_, x);
     if (!(std::abs(side) > kOnSurface)) return std::nullopt;
-    sides.push_back(side);
-  }
-  // A face whose sample lies on p's side of every one of them holds p.
+    return side > 0;
+  };
+  // p's side of each surface near it; none where p lies on the surface (within rounding).
+  const std::vector<const EeeSurface*> near = surfacesNear(p);
+  std::vector<std::optional<bool>> sides;
+  for (const EeeSurface* s : near) sides.push_back(sideOf(*s, p));
+  // A face's labels are those at its sample, exact on the sample's side of every true conic that
+  // may cross the face: the conics of the polylines near p and near the sample (a conic stays
+  // within its polyline's tolerance, so one that passes between them is near one or the other).
+  // The face holds p when p lies on the sample's side of each, or on the conic itself: irradiance
+  // is continuous across an EEE event (only a contact makes it jump), so on the event the labels
+  // of either side give its value, to the square of p's distance from it (1e-9 relative at most).
   const auto holds = [&](int face) {
     const Vec3& sample = data.mesh.faces()[face].samplePoint;
-    if (data.eeeSegments.near(sample, nearEee())) return false;  // its sample decides nothing
     for (size_t k = 0; k < near.size(); ++k) {
-      const double side = eeeSide(*near[k], *posed_, *adjacency_, sample);
-      if (!(std::abs(side) > kOnSurface) || (side > 0) != (sides[k] > 0)) return false;
+      const std::optional<bool> atSample = sideOf(*near[k], sample);
+      if (!atSample || (sides[k] && *sides[k] != *atSample)) return false;
+    }
+    for (const EeeSurface* s : surfacesNear(sample)) {
+      if (std::find(near.begin(), near.end(), s) != near.end()) continue;
+      const std::optional<bool> atSample = sideOf(*s, sample), atP = sideOf(*s, p);
+      if (!atSample || (atP && *atP != *atSample)) return false;
     }
     return true;
   };
