@@ -1,5 +1,6 @@
 #include "points_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -42,10 +43,14 @@ std::vector<ProbePoint> readPointsFile(const std::string& path) {
     ProbePoint p;
     p.position = {values[0], values[1], values[2]};
     p.rawNormal = {values[3], values[4], values[5]};
-    const double len = length(p.rawNormal);
-    if (!(len > 0) || !std::isfinite(len))
+    // Scaled by its largest component first: the squared length of (1e-160, 0, 0) underflows to a
+    // subnormal that keeps a few bits (the "unit" normal came out 6e-6 too long), and that of
+    // (1e300, 1e300, 0) overflows (it was refused as "the zero vector").
+    const double largest =
+        std::max({std::abs(values[3]), std::abs(values[4]), std::abs(values[5])});
+    if (!(largest > 0))
       throw InputError(path + ":" + std::to_string(line), "the normal is the zero vector");
-    p.normal = p.rawNormal / len;
+    p.normal = normalize(p.rawNormal / largest);
     p.line = line;
     points.push_back(p);
   }
