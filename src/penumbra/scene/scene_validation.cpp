@@ -52,6 +52,16 @@ void validateReach(const std::string& where, const SceneObject& object) {
     if (!scaleOk(k.pose))
       throw InputError(where + " keyframe " + std::to_string(k.frame),
                        "scale must lie within 1e-6 and 1e6 in magnitude per axis");
+  // Scales interpolate linearly between keyframes: one that changes sign passes through 0, where
+  // the object is flattened to nothing (every polygon of zero area at some frame in between).
+  const std::vector<Keyframe>& keys = object.motion.keyframes();
+  for (size_t i = 1; i < keys.size(); ++i)
+    for (int axis = 0; axis < 3; ++axis)
+      if (keys[i - 1].pose.scale[axis] * keys[i].pose.scale[axis] < 0)
+        throw InputError(where + " keyframes " + std::to_string(keys[i - 1].frame) + " and " +
+                             std::to_string(keys[i].frame),
+                         "scale changes sign between them, so it passes through 0 (the object "
+                         "collapses) in between");
   const Box3 reach = reachBounds(object);
   for (const Vec3& corner : {reach.min, reach.max})
     for (double c : {corner.x, corner.y, corner.z})
@@ -60,6 +70,37 @@ void validateReach(const std::string& where, const SceneObject& object) {
                                     " of the origin in some pose (a coordinate of " +
                                     shortNumber(c) + "); scenes are bounded by " + magnitude() +
                                     " in every frame");
+}
+
+bool isIdentity(const TrsPose& pose) {
+  return pose.translate == Vec3{} && pose.scale == Vec3{1, 1, 1} && pose.rotate.w == 1 &&
+         pose.rotate.x == 0 && pose.rotate.y == 0 && pose.rotate.z == 0;
+}
+
+// The engines see polygons in world coordinates, where one valid in its object's coordinates may
+// not be: a transform that makes it 1e-15 across 1000 away from the origin rounds its corners
+// together (zero area, a NaN plane: CGAL's exact numbers aborted on it), a non-uniform scale
+// squashes it flat. Every polygon is checked as posed at the object's transform, or at each of
+// its keyframes (the poses between them interpolate these).
+void validateWorldPolygons(const SceneObject& object) {
+  std::vector<std::pair<std::string, TrsPose>> poses;
+  if (object.isDynamic()) {
+    for (const Keyframe& k : object.motion.keyframes())
+      poses.push_back({"pose at keyframe " + std::to_string(k.frame), k.pose});
+  } else if (!isIdentity(object.transform)) {
+    poses.push_back({"transform", object.transform});
+  }
+  Polygon3 world;
+  for (const auto& [what, pose] : poses) {
+    const Transform transform = pose.toTransform();
+    for (size_t i = 0; i < object.polygons.size(); ++i) {
+      world.clear();
+      for (const Vec3& p : object.polygons[i]) world.push_back(transform.applyToPoint(p));
+      if (auto defect = findPolygonDefect(world))
+        throw InputError(object.polygonOrigin[i],
+                         *defect + " (in world coordinates, after the object's " + what + ")");
+    }
+  }
 }
 
 }  // namespace
@@ -81,6 +122,7 @@ void validateScene(const Scene& scene) {
         throw InputError(object.polygonOrigin[i], *defect);
     }
     validateReach(objectWhere, object);
+    validateWorldPolygons(object);
   }
   if (scene.camera)
     for (const Vec3& p : {scene.camera->eye, scene.camera->target})
