@@ -1,0 +1,255 @@
+// Fuzz target, structure-aware: valid small scenes with adversarial geometry (fuzzed_scene.h)
+// through the exact soft-shadow engine, as `penumbra shadows` and `probe --method dm` run it. Each
+// scene that validateScene accepts is built (and, when it moves, updated to frame 1 and compared
+// with a build from scratch, as `shadows --mode verify` does); then
+// - every corner of the irradiance mesh (`shadows --out`) has finite, non-negative irradiance;
+// - probe points on the floor (free ones, occluder corners lying on it, the points under every
+//   occluder corner) and at the occluders' centroids are answered with finite, non-negative
+//   irradiance equal to the exact reference's (ExactReference, lighting/) to 1e-9 relative, the
+//   tolerance of the engine's own tests; a point strictly inside the floor must be answered.
+// A scene that validation rejects is not interesting (the rejection must be an InputError naming
+// the polygon); anything the engine throws or breaks on an accepted scene is a finding.
+//
+// Open findings (fuzz/README.md) can be tolerated, to fuzz past them until they are fixed, with
+// PENUMBRA_FUZZ_TOLERATE=name[,name...]:
+// - contact-points: probes lying on a polygon other than their receiver (an occluder's corner or
+//   edge resting on the floor, an occluder lying on it) are points of a D0 discontinuity, where
+//   the irradiance of DESIGN.md §5 (a polygon through p hides nothing) is neither one-sided limit;
+//   they are left out of the comparison with the reference (still checked finite, non-negative);
+// - reference-rounding-below-zero: the exact reference may answer below zero by rounding (no more
+//   than DiscontinuityMeshEngine::isDegenerate allows), where the light touches the receiver's
+//   plane.
+//
+// With PENUMBRA_FUZZ_DUMP=DIR in the environment, the accepted scene is written to DIR/scene.json
+// and the probe points of each frame to DIR/points-frame-K.txt before they are checked, so that a
+// finding reproduces with `penumbra probe DIR/scene.json --points ... --method dm|reference`.
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fuzz_input.h"
+#include "fuzz_outcome.h"
+#include "fuzzed_scene.h"
+#include "penumbra/dm/discontinuity_mesh_engine.h"
+#include "penumbra/dm/irradiance_mesh.h"
+#include "penumbra/lighting/exact_reference.h"
+#include "penumbra/scene/repeated_vertices.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/dynamic_scene.h"
+#include "penumbra/spatial/receiver_locator.h"
+#include "scene_json_writer.h"
+
+namespace penumbra::fuzz {
+namespace {
+
+struct Probe {
+  Vec3 p, n;
+  std::string what;
+  bool mustBeAnswered = false;  // strictly inside the floor, facing up
+};
+
+std::string text(const Vec3& p) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%.17g, %.17g, %.17g)", p.x, p.y, p.z);
+  return buffer;
+}
+std::string text(const Rgb& c) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%.17g, %.17g, %.17g)", c.r, c.g, c.b);
+  return buffer;
+}
+
+// Where PENUMBRA_FUZZ_DUMP asks the scene and the probe points to be written, or nothing.
+const char* dumpDirectory() {
+  return std::getenv("PENUMBRA_FUZZ_DUMP");
+}
+
+void dumpProbes(const std::vector<Probe>& probes, int frame) {
+  if (!dumpDirectory()) return;
+  std::ofstream out(std::string(dumpDirectory()) + "/points-frame-" + std::to_string(frame) +
+                    ".txt");
+  char line[256];
+  for (const Probe& probe : probes) {
+    out << "# " << probe.what << "\n";
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %.17g\n", probe.p.x, probe.p.y,
+                  probe.p.z, probe.n.x, probe.n.y, probe.n.z);
+    out << line;
+  }
+}
+
+// Is the open finding `name` tolerated (PENUMBRA_FUZZ_TOLERATE)?
+bool tolerates(const std::string& name) {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> list;
+    const char* value = std::getenv("PENUMBRA_FUZZ_TOLERATE");
+    std::string rest = value ? value : "";
+    for (size_t comma; (comma = rest.find(',')) != std::string::npos; rest.erase(0, comma + 1))
+      list.push_back(rest.substr(0, comma));
+    list.push_back(rest);
+    return list;
+  }();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// Does p lie on a polygon other than `receiver`, within `tolerance` (of its plane, and of its
+// inside or boundary)?
+bool liesOnAnotherPolygon(const PosedScene& posed, const Vec3& p, std::optional<PolygonId> receiver,
+                          double tolerance) {
+  for (const WorldPolygon& polygon : posed.polygons) {
+    if (receiver && polygon.id == *receiver) continue;
+    if (!(std::abs(polygon.plane.signedDistance(p)) <= tolerance)) continue;
+    const PlaneFrame frame = PlaneFrame::fromPlane(polygon.plane, polygon.vertices[0]);
+    Polygon2 flat;
+    for (const Vec3& corner : polygon.vertices) flat.push_back(frame.toLocal(corner));
+    const Vec2 q = frame.toLocal(p);
+    if (containsPoint(flat, q)) return true;
+    for (size_t i = 0; i < flat.size(); ++i) {
+      const Vec2 a = flat[i], b = flat[(i + 1) % flat.size()];
+      const Vec2 ab = b - a, aq = q - a;
+      const double t = std::clamp(dot(aq, ab) / dot(ab, ab), 0.0, 1.0);
+      const Vec2 gap = aq - ab * t;
+      if (std::sqrt(dot(gap, gap)) <= tolerance) return true;
+    }
+  }
+  return false;
+}
+
+bool isFiniteNonNegative(const Rgb& e) {
+  return e.isFinite() && e.r >= 0 && e.g >= 0 && e.b >= 0;
+}
+
+std::vector<Probe> probesOf(const FuzzedScene& fuzzed, const DynamicScene& live) {
+  const PosedScene& posed = live.posed();
+  const WorldPolygon& floor = posed.polygons[posed.objectFirstPolygon[kFloorObject]];
+  const Vec3 up = floor.plane.normal;
+  // The floor is horizontal in every pose (scaled and moved, never turned): one height, one box.
+  const double floorZ = floor.vertices[0].z;
+  const Box3& box = floor.bounds;
+  const auto isInsideFloor = [&](const Vec3& p) {
+    const double margin = 1e-3 * (box.max.x - box.min.x);
+    return p.x > box.min.x + margin && p.x < box.max.x - margin && p.y > box.min.y + margin &&
+           p.y < box.max.y - margin;
+  };
+  std::vector<Probe> probes;
+  for (const Vec3& q : fuzzed.floorPoints) {
+    const Vec3 p = live.transformOf(kFloorObject).applyToPoint(q);
+    probes.push_back({p, up, "floor point " + text(p), isInsideFloor(p)});
+  }
+  for (int object = kFirstOccluderObject; object < posed.objectCount(); ++object) {
+    const WorldPolygon& occluder = posed.polygons[posed.objectFirstPolygon[object]];
+    for (const Vec3& corner : occluder.vertices) {
+      // An occluder's corner lying on the floor (contact): where Lambert's formula over a
+      // backprojection degenerates (zero-length edge vectors) and the engine must answer at the
+      // point.
+      if (corner.z == floorZ)
+        probes.push_back(
+            {corner, up, "occluder corner on the floor " + text(corner), isInsideFloor(corner)});
+      const Vec3 below{corner.x, corner.y, floorZ};
+      if (corner.z > floorZ)
+        probes.push_back({below, up, "floor point under an occluder corner " + text(below),
+                          isInsideFloor(below)});
+    }
+    probes.push_back({centroid(occluder.vertices), occluder.plane.normal,
+                      "centroid of occluder " + std::to_string(occluder.id), false});
+  }
+  return probes;
+}
+
+// The engine's answers at the probes against the exact reference, and the irradiance mesh.
+void checkSolution(const DiscontinuityMeshEngine& engine, const DynamicScene& live,
+                   const FuzzedScene& fuzzed, int frameNumber) {
+  const std::string frame = "frame " + std::to_string(frameNumber);
+  const IrradianceMesh mesh = buildIrradianceMesh(engine);
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!mesh.positions[i].isFinite() || !isFiniteNonNegative(mesh.irradiance[i]))
+      reportFinding(frame + ": irradiance mesh corner " + text(mesh.positions[i]) + " has " +
+                    text(mesh.irradiance[i]));
+
+  const PosedScene& posed = live.posed();
+  const ExactReference reference(posed, &live.grid());
+  double exitance = 0;
+  for (PolygonId light : posed.lights)
+    exitance = std::max(exitance, posed.materialOf(posed.polygons[light]).emission.maxComponent());
+  const std::vector<Probe> probes = probesOf(fuzzed, live);
+  dumpProbes(probes, frameNumber);
+  for (const Probe& probe : probes) {
+    const std::string where = frame + ", " + probe.what;
+    const auto answer = engine.query(probe.p, probe.n);
+    if (!answer) {
+      if (probe.mustBeAnswered) reportFinding(where + ": the engine finds no receiver");
+      continue;
+    }
+    if (!isFiniteNonNegative(answer->irradiance))
+      reportFinding(where + ": the engine answers " + text(answer->irradiance));
+    const auto receiver = locateReceiver(posed, live.grid(), probe.p, probe.n);
+    const Rgb expected = reference.irradiance(
+        probe.p, probe.n, receiver ? std::optional(receiver->polygon) : std::nullopt);
+    if (!isFiniteNonNegative(expected) && !(tolerates("reference-rounding-below-zero") &&
+                                            !DiscontinuityMeshEngine::isDegenerate(expected)))
+      reportFinding(where + ": the exact reference answers " + text(expected));
+    if (tolerates("contact-points") &&
+        liesOnAnotherPolygon(posed, probe.p,
+                             receiver ? std::optional(receiver->polygon) : std::nullopt,
+                             1e-9 * length(posed.extent.max - posed.extent.min)))
+      continue;
+    // As the engine's tests compare: relative to the value, and in the umbra to 1e-12 of the
+    // light's exitance (rounding in Lambert's sum over a visible region of nothing).
+    const double scale = std::max(expected.maxComponent(), 1e-12 * exitance);
+    const Rgb difference = answer->irradiance - expected;
+    const double error =
+        std::max({std::abs(difference.r), std::abs(difference.g), std::abs(difference.b)}) / scale;
+    if (!(error <= 1e-9))
+      reportFinding(where + ": the engine answers " + text(answer->irradiance) + " (answer kind " +
+                    std::to_string(int(answer->answer)) + "), the exact reference " +
+                    text(expected) + ", relative error " + std::to_string(error));
+  }
+}
+
+void run(const FuzzedScene& fuzzed) {
+  DynamicScene live(fuzzed.scene, 0);
+  DiscontinuityMeshEngine engine;
+  engine.build(live);
+  checkSolution(engine, live, fuzzed, 0);
+  if (!fuzzed.moves) return;
+  const SceneChange change = live.changeToFrame(1);
+  live.apply(change);
+  engine.update(live, change);
+  const DynamicScene fresh(fuzzed.scene, 1);
+  DiscontinuityMeshEngine scratch;
+  scratch.build(fresh);
+  if (const auto difference =
+          firstDifference(buildIrradianceMesh(engine), buildIrradianceMesh(scratch)))
+    reportFinding("frame 1 updated differs from frame 1 built from scratch: " + *difference);
+  checkSolution(engine, live, fuzzed, 1);
+}
+
+}  // namespace
+}  // namespace penumbra::fuzz
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace penumbra;
+  using namespace penumbra::fuzz;
+  FuzzInput in(data, size);
+  FuzzedScene fuzzed = makeFuzzedScene(in);
+  // What loadScene does after reading a file.
+  removeRepeatedVertices(fuzzed.scene);
+  if (!succeedsOrRejects(fuzzed.scene.sourcePath, [&] { validateScene(fuzzed.scene); })) return 0;
+  noteOutcome("accepted: " + std::to_string(fuzzed.scene.polygonCount()) + " polygons" +
+              (fuzzed.moves ? ", moving" : ""));
+  if (const char* dump = dumpDirectory())
+    std::ofstream(std::string(dump) + "/scene.json") << sceneToJson(fuzzed.scene);
+  try {
+    run(fuzzed);
+  } catch (const std::exception& e) {
+    reportFinding("the engine threw on a valid scene: " + describe(e));
+  }
+  return 0;
+}
