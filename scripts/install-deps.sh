@@ -14,6 +14,7 @@ packages=(
   libglfw3-dev libimgui-dev
   libopenexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev llvm  # the fuzz targets: libFuzzer, and llvm-symbolizer for their stacks
   xvfb xauth
 )
 
