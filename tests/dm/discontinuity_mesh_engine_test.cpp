@@ -307,14 +307,17 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
 
 // Faces that face verification leaves unresolved (a missing event crosses them; they are
 // answered at the point), per bundled scene at frame 0: bounds at what is measured, so that a
-// change that loses events shows. Measured (session 9) in brackets.
+// change that loses events shows; and no face left without labels. Measured (session 11) in
+// brackets, session 9 after them: the difference is false alarms (labels that differ only by a
+// degenerate vertex, same region) now told apart by evaluating the sample's labels at the corner
+// (isAlias), and faces whose sample was degenerate now labelled at another point of them.
 TEST(DiscontinuityMeshEngine, UnresolvedFacesInBundledScenes) {
   const std::vector<std::pair<const char*, long long>> bounds{
-      {"/scenes/cornell-box/cornell-box.json", 1},  // [1]
-      {"/scenes/office-desk/desk-145.json", 0},     // [0]
-      {"/scenes/office-desk/desk-307.json", 3},     // [3]
-      {"/scenes/office-desk/desk-475.json", 10},    // [10]
-      {"/scenes/chair-room/chair-room.json", 0},    // [0]
+      {"/scenes/cornell-box/cornell-box.json", 0},  // [0] 1 and 3 unlabelled
+      {"/scenes/office-desk/desk-145.json", 0},     // [0] 0
+      {"/scenes/office-desk/desk-307.json", 0},     // [0] 3 and 1 unlabelled
+      {"/scenes/office-desk/desk-475.json", 1},     // [1] 10 and 4 unlabelled
+      {"/scenes/chair-room/chair-room.json", 0},    // [0] 0
   };
   for (const auto& [name, bound] : bounds) {
     DiscontinuityMeshEngine engine;
@@ -322,6 +325,7 @@ TEST(DiscontinuityMeshEngine, UnresolvedFacesInBundledScenes) {
     std::printf("[ info     ] %s: %lld unresolved of %lld faces\n", name,
                 engine.stats().unresolvedFaces, engine.stats().meshFaces);
     EXPECT_LE(engine.stats().unresolvedFaces, bound) << name;
+    EXPECT_EQ(engine.stats().unlabelledBackprojections, 0) << name;
   }
 }
 

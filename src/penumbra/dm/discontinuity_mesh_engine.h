@@ -250,6 +250,16 @@ class DiscontinuityMeshEngine {
   std::vector<Vec3> cornerProbes(const ReceiverMesh& mesh, const MeshFace& face,
                                  const SegmentProximity& eeeSegments) const;
   // `compared` (optional, one per light) counts the corners where the labels were compared.
+  // Whether the sample's labels, different from those computed at p, still give p's own region
+  // there (a degenerate alignment at one of the two points, not a missing event between them).
+  bool isAlias(const Backprojection& atSample, const Backprojection& here, const Vec3& p,
+               const WorldPolygon& receiver) const;
+  // The face's labels for `light` computed at another point of it, where the sample's could not
+  // be labelled (a degenerate alignment there); its cone's occluders into `occluders`.
+  std::optional<Backprojection> labelledElsewhere(const ReceiverMesh& mesh, const MeshFace& face,
+                                                  PolygonId light,
+                                                  const SegmentProximity& eeeSegments,
+                                                  std::vector<PolygonId>& occluders) const;
   bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
                            const SegmentProximity& eeeSegments,
                            std::vector<int>* compared = nullptr) const;
