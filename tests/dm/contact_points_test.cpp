@@ -141,6 +141,9 @@ TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
   EXPECT_EQ(differ, 0) << GetParam() << ": " << differ << " of " << beside << " differ; first "
                        << first;
   EXPECT_GT(beside, 0);
+  // Answered by the mesh (session 11): 99.1-99.9% in every scene but the glTF box (93.8%); all
+  // scenes together 139,981 of 140,128 (99.9%).
+  EXPECT_GE(besideByMesh, 0.93 * beside);
 }
 
 INSTANTIATE_TEST_SUITE_P(
