@@ -36,6 +36,23 @@ bool parseFiniteDouble(const std::string& token, double& value) {
   return end == token.c_str() + token.size() && errno != ERANGE && std::isfinite(value);
 }
 
+// The blank-separated fields of an OBJ statement as tinyobjloader separates them: at spaces and
+// tabs only (its IS_SPACE), the line's final CR (CR LF files) dropped. Splitting at every isspace()
+// character (form feed, vertical tab) made `v\f0 1 0` a vertex here and an unknown statement
+// there, and a face's negative index then reached a vertex tinyobjloader did not have
+// (std::out_of_range escaped).
+std::vector<std::string> objFields(std::string statement) {
+  if (!statement.empty() && statement.back() == '\r') statement.pop_back();
+  std::vector<std::string> fields;
+  size_t start = statement.find_first_not_of(" \t");
+  while (start != std::string::npos) {
+    const size_t end = statement.find_first_of(" \t", start);
+    fields.push_back(statement.substr(start, end - start));
+    start = statement.find_first_not_of(" \t", end);
+  }
+  return fields;
+}
+
 struct FaceStatement {
   int line;
   std::string materialName;  // the `usemtl` in force
@@ -117,26 +134,24 @@ Prescan prescan(const std::string& path) {
     // tinyobjloader does not accept: such lines are handed to it without their comments.
     // (Names after usemtl or mtllib are left whole: they may hold a '#'.)
     const std::string statement = text.substr(0, text.find('#'));
-    std::string keyword;
-    std::istringstream(statement) >> keyword;
+    std::vector<std::string> fields = objFields(statement);
+    const std::string keyword = fields.empty() ? "" : fields[0];
     const bool vertexOrFace = keyword == "v" || keyword == "f";
     result.hasTrailingComments = result.hasTrailingComments || (vertexOrFace && statement != text);
     result.lines.push_back(vertexOrFace ? statement : text);
-    std::istringstream tokens(vertexOrFace ? statement : text);
-    tokens >> keyword;
+    if (!vertexOrFace) fields = objFields(text);
     if (keyword == "v") {
       double c[3];
-      std::string token;
-      for (double& value : c) {
-        if (!(tokens >> token) || !parseFiniteDouble(token, value))
+      for (int k = 0; k < 3; ++k) {
+        if (k + 1 >= int(fields.size()) || !parseFiniteDouble(fields[k + 1], c[k]))
           throw InputError(at(path, line), "vertex needs 3 finite coordinates, got '" + text + "'");
       }
       result.vertices.push_back({c[0], c[1], c[2]});
       ++vertexCount;
     } else if (keyword == "f") {
-      std::string token;
       int count = 0;
-      while (tokens >> token) {
+      for (size_t k = 1; k < fields.size(); ++k) {
+        const std::string& token = fields[k];
         const long index = std::strtol(token.c_str(), nullptr, 10);  // "i", "i/t", "i/t/n", "i//n"
         const long resolved = index < 0 ? vertexCount + index + 1 : index;
         if (index == 0 || resolved < 1 || resolved > vertexCount)
@@ -150,7 +165,7 @@ Prescan prescan(const std::string& path) {
                          "face with fewer than 3 vertices (" + std::to_string(count) + ")");
       faceLines.push_back({line, currentMaterial});
     } else if (keyword == "usemtl") {
-      tokens >> currentMaterial;
+      if (fields.size() > 1) currentMaterial = fields[1];
     } else if (keyword == "mtllib") {
       // tinyobjloader takes the rest of the line after "mtllib" and one blank.
       std::string rest = text.substr(std::min(text.size(), text.find("mtllib") + 7));
@@ -275,7 +290,14 @@ ObjMesh readObjMesh(const std::string& path) {
       const int n = shape.mesh.num_face_vertices[f];
       for (int k = 0; k < n; ++k) {
         const int vi = shape.mesh.indices[offset + k].vertex_index;
-        face.vertices.push_back(scanned.vertices.at(vi));
+        // The pre-scan checked every index against its own count of vertices; should
+        // tinyobjloader still count them differently, that is this file's error, not a crash.
+        if (vi < 0 || size_t(vi) >= scanned.vertices.size())
+          throw InputError(
+              faceIndex < faceLines.size() ? at(path, faceLines[faceIndex].line) : path,
+              "face refers to a vertex the OBJ reader does not have (index " +
+                  std::to_string(vi + 1) + " of " + std::to_string(scanned.vertices.size()) + ")");
+        face.vertices.push_back(scanned.vertices[vi]);
       }
       offset += n;
       if (faceIndex < faceLines.size()) {
