@@ -1,7 +1,9 @@
 // Where occluders touch receivers, the exact engine must stay finite and exact: every occluder
 // vertex and edge midpoint lying on a receiver polygon of every bundled scene (a box's corner on
 // the floor, a book's edge on a shelf) is probed with `DiscontinuityMeshEngine::query`: the answer
-// is finite and non-negative there, and at points a step of 1e-5 of the scene's size beside it
+// is finite and non-negative there and equals the reference's (irradiance jumps on a contact, and
+// DESIGN.md §5's value, polygons through the point hiding nothing, is neither face's limit), and
+// at points a step of 1e-5 of the scene's size beside it
 // (eight directions in the receiver's plane, those inside the receiver) it equals the exact
 // reference (independent: per-point polygon booleans) to 1e-9. The furnished room alone has
 // 19,206 contact points (4.4 s in a release build).
@@ -57,6 +59,15 @@ bool liesWellInside(const WorldPolygon& r, const Vec3& p, double margin) {
   return where.inside && where.boundaryDistance > margin;
 }
 
+// The lights' exitance: the most any point can receive. Below a millionth of it, values are
+// compared relative to that millionth (an umbra's rounding noise).
+double exitanceOf(const PosedScene& posed) {
+  double exitance = 0;
+  for (PolygonId light : posed.lights)
+    exitance += posed.materialOf(posed.polygons[light]).emission.maxComponent();
+  return exitance;
+}
+
 class ContactPoints : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
@@ -88,7 +99,7 @@ TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
   }
   ASSERT_FALSE(contacts.empty()) << "every bundled scene has objects standing on others";
 
-  int beside = 0, besideByMesh = 0, differ = 0;
+  int beside = 0, besideByMesh = 0, differ = 0, atContacts = 0, contactsDiffer = 0;
   std::string first;
   for (const auto& [p, receiver] : contacts) {
     const WorldPolygon& r = posed.polygons[receiver];
@@ -102,6 +113,17 @@ TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
     for (double v : {at->irradiance.r, at->irradiance.g, at->irradiance.b})
       ASSERT_TRUE(std::isfinite(v) && v >= 0)
           << GetParam() << " at " << p.x << " " << p.y << " " << p.z << ": " << v;
+    // On the contact itself irradiance jumps; DESIGN.md §5's value there (polygons through the
+    // point hide nothing) is the reference's, and the engine gives it, not one side's limit (the
+    // face under a box, 0, at a corner of its footprint the reference puts at 0.457).
+    const Rgb raw = reference.irradiance(onReceiver, n, receiver);
+    ++atContacts;
+    if (!(std::abs(at->irradiance.r - std::max(0.0, raw.r)) <=
+          1e-9 * std::max(raw.r, 1e-6 * exitanceOf(posed))))
+      if (contactsDiffer++ < 3)
+        ADD_FAILURE() << GetParam() << " at the contact " << p.x << " " << p.y << " " << p.z << ": "
+                      << at->irradiance.r << " (answer " << int(at->answer) << "), reference "
+                      << raw.r;
 
     const PlaneFrame frame = PlaneFrame::fromPlane(r.plane, onReceiver);
     for (int d = 0; d < 8; ++d) {
@@ -120,10 +142,7 @@ TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
       // the most any point can receive), relative to that millionth: there both sides are
       // rounding noise (Lambert's sum cancelling, a sliver one integer unit wide in the boolean
       // operation), within a few ulps of the exitance, of either sign.
-      double exitance = 0;
-      for (PolygonId light : posed.lights)
-        exitance += posed.materialOf(posed.polygons[light]).emission.maxComponent();
-      const double scale = std::max(expected.maxComponent(), 1e-6 * exitance);
+      const double scale = std::max(expected.maxComponent(), 1e-6 * exitanceOf(posed));
       const double error = std::max({std::abs(got->irradiance.r - expected.r),
                                      std::abs(got->irradiance.g - expected.g),
                                      std::abs(got->irradiance.b - expected.b)}) /
@@ -140,6 +159,7 @@ TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
               contacts.size(), beside, besideByMesh);
   EXPECT_EQ(differ, 0) << GetParam() << ": " << differ << " of " << beside << " differ; first "
                        << first;
+  EXPECT_EQ(contactsDiffer, 0) << "of " << atContacts << " contact points";
   EXPECT_GT(beside, 0);
   // Answered by the mesh (session 11): 99.1-99.9% in every scene but the glTF box (93.8%); all
   // scenes together 139,981 of 140,128 (99.9%).

@@ -110,7 +110,8 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
                           {"sliver_face", answers[Answer::kSliverFace]},
                           {"near_eee_polyline", answers[Answer::kNearEeePolyline]},
                           {"degenerate", answers[Answer::kDegenerate]},
-                          {"unlabelled", answers[Answer::kUnlabelled]}};
+                          {"unlabelled", answers[Answer::kUnlabelled]},
+                          {"on_another_polygon", answers[Answer::kOnAnotherPolygon]}};
   } else if (options.method == "radiosity") {
     // Total irradiance (direct + indirect) interpolated on the solution's leaf elements.
     RadiositySolver solver(withThreads(options.radiosity, common));

@@ -836,6 +836,11 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   const auto atPointFor = [&](Answer why) {
     return Query{withoutRoundingBelowZero(atPoint(p, n, match->polygon)), why};
   };
+  // At a contact (a box's edge or corner on the floor, a card lying on it) the point lies on
+  // another polygon: irradiance jumps there, each face around holds its own one-sided limit, and
+  // DESIGN.md §5's value is the point's own (a polygon through it hides nothing, the occluder's
+  // other faces hide what they hide), which only the point-wise computation follows.
+  if (liesOnAnotherPolygon(onPlane, match->polygon)) return atPointFor(Answer::kOnAnotherPolygon);
   const auto face = it->second.mesh.locate(onPlane);
   // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
   // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
@@ -926,6 +931,35 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
       queue.push_back(c.other);
     }
   return std::nullopt;
+}
+
+bool DiscontinuityMeshEngine::liesOnAnotherPolygon(const Vec3& p, PolygonId receiver) const {
+  // The tolerance of the contact lines (contactSegments), so that a point on one is on the
+  // polygon that made it.
+  const double tolerance = 1e-9 * posed_->extent.diagonalLength();
+  const Box3 around = Box3{p, p}.expanded(tolerance);
+  for (PolygonId id : grid_->polygonsInBox(around)) {
+    const WorldPolygon& q = posed_->polygons[id];
+    if (id == receiver || !q.bounds.expanded(tolerance).contains(p)) continue;
+    if (!(std::abs(q.plane.signedDistance(p)) <= tolerance)) continue;
+    // Inside a polygon lying on the receiver (a box's bottom under it) the faces agree with the
+    // point's value; only its outline is a contact line.
+    const bool lyingOn =
+        std::abs(dot(q.plane.normal, posed_->polygons[receiver].plane.normal)) >= 1 - 1e-12;
+    const PlaneFrame frame = PlaneFrame::fromPlane(q.plane, q.vertices[0]);
+    Polygon2 loop;
+    loop.reserve(q.vertices.size());
+    for (const Vec3& v : q.vertices) loop.push_back(frame.toLocal(v));
+    const Vec2 x = frame.toLocal(p);
+    if (!lyingOn && containsPoint(loop, x)) return true;
+    for (size_t i = 0; i < loop.size(); ++i) {  // on its boundary, within the tolerance
+      const Vec2 a = loop[i], ab = loop[i + 1 == loop.size() ? 0 : i + 1] - a;
+      const double t = std::clamp(dot(x - a, ab) / dot(ab, ab), 0.0, 1.0);
+      const Vec2 gap = x - (a + ab * t);
+      if (std::hypot(gap.x, gap.y) <= tolerance) return true;
+    }
+  }
+  return false;
 }
 
 bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) {

@@ -157,14 +157,16 @@ class DiscontinuityMeshEngine {
   // How a query was answered: by its face's backprojections, or at the point by the exact
   // reference, and why (`probe --report` counts them).
   enum class Answer {
-    kMesh,             // the face's labelled backprojections evaluated at the point
-    kOutsideFaces,     // on the receiver within the locator's tolerance but in no face
-    kUnresolvedFace,   // a face a missing event crosses (face verification)
-    kSliverFace,       // a face too thin to carry labels
-    kNearEeePolyline,  // within the EEE polylines' tolerance of an approximated conic
-    kDegenerate,       // the backprojection gave no finite non-negative value (contact points)
-    kUnlabelled,       // the face's backprojection could not be labelled at its sample (more or
-                       // fewer than two features meet at one of its vertices)
+    kMesh,              // the face's labelled backprojections evaluated at the point
+    kOutsideFaces,      // on the receiver within the locator's tolerance but in no face
+    kUnresolvedFace,    // a face a missing event crosses (face verification)
+    kSliverFace,        // a face too thin to carry labels
+    kNearEeePolyline,   // within the EEE polylines' tolerance of an approximated conic
+    kDegenerate,        // the backprojection gave no finite non-negative value (contact points)
+    kUnlabelled,        // the face's backprojection could not be labelled at its sample (more or
+                        // fewer than two features meet at one of its vertices)
+    kOnAnotherPolygon,  // a contact: the point lies on an occluder touching the receiver, where
+                        // irradiance jumps and the faces around hold one-sided limits only
   };
   struct Query {
     Rgb irradiance;
@@ -250,6 +252,8 @@ class DiscontinuityMeshEngine {
   std::vector<Vec3> cornerProbes(const ReceiverMesh& mesh, const MeshFace& face,
                                  const SegmentProximity& eeeSegments) const;
   // `compared` (optional, one per light) counts the corners where the labels were compared.
+  // Whether p (on `receiver`) lies on another polygon, within the contact lines' tolerance.
+  bool liesOnAnotherPolygon(const Vec3& p, PolygonId receiver) const;
   // Whether the sample's labels, different from those computed at p, still give p's own region
   // there (a degenerate alignment at one of the two points, not a missing event between them).
   bool isAlias(const Backprojection& atSample, const Backprojection& here, const Vec3& p,
