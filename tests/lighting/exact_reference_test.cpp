@@ -8,6 +8,8 @@
 #include <random>
 
 #include "penumbra/lighting/form_factor.h"
+#include "penumbra/scene/receiver_sampling.h"
+#include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/uniform_grid.h"
 #include "support/scene_builder.h"
 
@@ -177,6 +179,41 @@ TEST(ExactReference, MayOccludeIsFalseOnlyForPolygonsTheLightNeverConsiders) {
   EXPECT_GT(excluded, 1000);
   EXPECT_GT(admitted, 100);
   EXPECT_GT(occluding, 100);
+}
+
+}  // namespace
+}  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// Lambert's sum over an umbra's sliver cancels to a few ulps of either sign; the reference reports
+// what rounding leaves below zero as zero (no engine prints a negative irradiance), and anything
+// further below would still show. Over the chair room's receivers, uniform and at the points
+// where occluder vertices' shadows land (umbra boundaries), every channel is 0 or more; without
+// that rule some of them came out near -1e-15 (this test then fails).
+TEST(ExactReference, NeverBelowZero) {
+  const Scene scene =
+      loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/chair-room/chair-room.json");
+  const PosedScene posed = poseAt(scene, 0);
+  const UniformGrid grid(posed);
+  const ExactReference reference(posed, &grid);
+  std::vector<ReceiverPoint> points = sampleReceiverPoints(posed, 4000, 3);
+  for (const WorldPolygon& r : posed.polygons)
+    if (!r.isLight && r.area > 0.5) {  // the large receivers: floor, walls, table tops
+      const std::vector<ReceiverPoint> shadows =
+          vertexShadowPoints(posed, r.id, 1e-9 * posed.extent.diagonalLength());
+      points.insert(points.end(), shadows.begin(), shadows.end());
+    }
+  int zero = 0;
+  for (const ReceiverPoint& q : points) {
+    const Rgb e = reference.irradiance(q.p, q.n, q.receiver);
+    ASSERT_TRUE(e.r >= 0 && e.g >= 0 && e.b >= 0)
+        << q.p.x << " " << q.p.y << " " << q.p.z << ": " << e.r << " " << e.g << " " << e.b;
+    zero += e.r == 0 ? 1 : 0;
+  }
+  EXPECT_GT(points.size(), 10000u);
+  EXPECT_GT(zero, 100);  // umbrae are probed
 }
 
 }  // namespace

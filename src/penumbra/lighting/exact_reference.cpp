@@ -286,12 +286,21 @@ VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const P
 Rgb ExactReference::irradiance(const Vec3& p, const Vec3& n,
                                std::optional<PolygonId> receiver) const {
   Rgb total;
+  double exitance = 0;  // the most any point can receive: every light filling its hemisphere
   for (PolygonId lightId : scene_.lights) {
     const VisibleLight visible = visibleLight(p, n, lightId, receiver);
     double formFactor = 0;
     for (const Polygon3& ring : visible.rings) formFactor += pointToPolygonFormFactor(p, n, ring);
-    total += scene_.materialOf(scene_.polygons[lightId]).emission * formFactor;
+    const Rgb& emission = scene_.materialOf(scene_.polygons[lightId]).emission;
+    total += emission * formFactor;
+    exitance += emission.maxComponent();
   }
+  // Lambert's sum over a region of (nearly) nothing, an umbra's sliver or a light seen edge-on,
+  // cancels to a few ulps of either sign: what rounding leaves below zero is zero, so that no
+  // output is negative. Anything further below zero is left as it is, for the checks to see.
+  const double rounding = 1e-12 * exitance;
+  for (double Rgb::*channel : {&Rgb::r, &Rgb::g, &Rgb::b})
+    if (total.*channel < 0 && total.*channel >= -rounding) total.*channel = 0;
   return total;
 }
 
