@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "support/run_command.h"
+#include "support/scene_test_name.h"
 #include "support/temp_dir.h"
 
 namespace penumbra {
@@ -956,13 +957,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, BundledSceneMeshes,
                                            "office-desk/desk-145-close.json",
                                            "office-desk/desk-307.json", "office-desk/desk-475.json",
                                            "chair-room/chair-room.json", "gltf/animated-box.gltf"),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string name = info.param.substr(info.param.find('/') + 1);
-                           name = name.substr(0, name.rfind('.'));
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+                         test::sceneTestName);
 
 }  // namespace
 }  // namespace penumbra

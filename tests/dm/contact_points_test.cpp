@@ -21,6 +21,7 @@
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "support/scene_test_name.h"
 
 namespace penumbra {
 namespace {
@@ -173,13 +174,7 @@ INSTANTIATE_TEST_SUITE_P(
                       "office-desk/desk-145-close.json", "office-desk/desk-307.json",
                       "office-desk/desk-475.json", "chair-room/chair-room.json",
                       "chair-room/furnished-room.json", "gltf/animated-box.gltf"),
-    [](const ::testing::TestParamInfo<std::string>& info) {
-      std::string name = info.param.substr(info.param.find('/') + 1);
-      name = name.substr(0, name.rfind('.'));
-      for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-      return name;
-    });
+    test::sceneTestName);
 
 }  // namespace
 }  // namespace penumbra
