@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
   const PosedScene& posed = engine.posedScene();
   const UniformGrid grid(posed);
   const ExactReference reference(posed, &grid);
-  const BackprojectionBuilder builder(posed, grid, reference);
+  const BackprojectionBuilder builder(posed, reference);
   const EdgeAdjacency& adjacency = engine.adjacency();
 
   for (int e : edgesToShow) {

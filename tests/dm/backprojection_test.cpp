@@ -30,7 +30,7 @@ struct Agreement {
 void checkScene(const PosedScene& scene, int count, Agreement& agreement) {
   const UniformGrid grid(scene);
   const ExactReference reference(scene, &grid);
-  const BackprojectionBuilder builder(scene, grid, reference);
+  const BackprojectionBuilder builder(scene, reference);
   const double size = scene.bounds.diagonalLength();
   std::mt19937_64 rng(99);
   std::uniform_real_distribution<double> angle(0, 6.283185307179586);

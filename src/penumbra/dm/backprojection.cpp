@@ -154,9 +154,9 @@ RingBounds ringBoundsOf(const std::vector<Polygon3>& rings, const Plane& lightPl
 
 }  // namespace
 
-BackprojectionBuilder::BackprojectionBuilder(const PosedScene& scene, const UniformGrid& grid,
+BackprojectionBuilder::BackprojectionBuilder(const PosedScene& scene,
                                              const ExactReference& reference)
-    : scene_(scene), grid_(grid), reference_(reference) {}
+    : scene_(scene), reference_(reference) {}
 
 Backprojection BackprojectionBuilder::compute(PolygonId lightId, const Vec3& p, const Vec3& n,
                                               std::optional<PolygonId> receiver) const {

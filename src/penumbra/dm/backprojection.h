@@ -58,8 +58,7 @@ bool sameLabels(const Backprojection& a, const Backprojection& b, const EdgeAdja
 
 class BackprojectionBuilder {
  public:
-  BackprojectionBuilder(const PosedScene& scene, const UniformGrid& grid,
-                        const ExactReference& reference);
+  BackprojectionBuilder(const PosedScene& scene, const ExactReference& reference);
 
   Backprojection compute(PolygonId light, const Vec3& p, const Vec3& n,
                          std::optional<PolygonId> receiver) const;
@@ -87,7 +86,6 @@ class BackprojectionBuilder {
   Backprojection labelRegion(const VisibleLight& visible, const Vec3& p, const Vec3& n) const;
 
   const PosedScene& scene_;
-  const UniformGrid& grid_;
   const ExactReference& reference_;
 };
 

@@ -253,7 +253,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   const PosedScene& scene = *posed_;
   reference_ = std::make_unique<ExactReference>(scene, grid_);
   adjacency_ = std::make_unique<EdgeAdjacency>(scene);
-  backprojections_ = std::make_unique<BackprojectionBuilder>(scene, *grid_, *reference_);
+  backprojections_ = std::make_unique<BackprojectionBuilder>(scene, *reference_);
   stats_.lights = int(scene.lights.size());
   stats_.gridBytes = grid_->memoryBytes();
 
