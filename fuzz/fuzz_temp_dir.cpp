@@ -60,6 +60,16 @@ std::string FuzzTempDir::write(const std::string& name, std::string_view bytes) 
   return file;
 }
 
+std::string_view FuzzTempDir::splitOff(std::string_view input, std::string_view separator,
+                                       const std::string& sideFile) const {
+  const size_t split = input.find(separator);
+  if (split == std::string_view::npos)
+    remove(sideFile);
+  else
+    write(sideFile, input.substr(split + separator.size()));
+  return input.substr(0, split);
+}
+
 void FuzzTempDir::remove(const std::string& name) const {
   std::error_code ignored;
   fs::remove(path(name), ignored);

@@ -19,6 +19,11 @@ class FuzzTempDir {
   // Removes the file `name` when it exists: an input that gives no such file must not see the
   // previous input's (every input runs alone, so that a crash replays from its bytes).
   void remove(const std::string& name) const;
+  // An input carrying a second file after `separator` (an OBJ's MTL, a glTF's buffer): writes
+  // what follows it to `sideFile`, or removes `sideFile` when the input has no separator, and
+  // returns what precedes it.
+  std::string_view splitOff(std::string_view input, std::string_view separator,
+                            const std::string& sideFile) const;
   std::string path(const std::string& name) const;
   const std::string& directory() const { return directory_; }
 

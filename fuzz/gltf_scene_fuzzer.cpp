@@ -22,12 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using penumbra::fuzz::FuzzTempDir;
   const FuzzTempDir& dir = FuzzTempDir::instance();
   const std::string_view input(reinterpret_cast<const char*>(data), size);
-  const size_t split = input.find(kBinSeparator);
-  if (split == std::string_view::npos)
-    dir.remove("buffer.bin");
-  else
-    dir.write("buffer.bin", input.substr(split + kBinSeparator.size()));
-  const std::string_view scene = input.substr(0, split);
+  const std::string_view scene = dir.splitOff(input, kBinSeparator, "buffer.bin");
   // Only one of the two names exists at a time, so a relative "uri" naming the other one does not
   // see a previous input's file.
   const bool isBinary = scene.substr(0, 4) == "glTF";

@@ -21,12 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using penumbra::fuzz::FuzzTempDir;
   const FuzzTempDir& dir = FuzzTempDir::instance();
   const std::string_view input(reinterpret_cast<const char*>(data), size);
-  const size_t split = input.find(kMtlSeparator);
-  const std::string path = dir.write("scene.obj", input.substr(0, split));
-  if (split == std::string_view::npos)
-    dir.remove("scene.mtl");
-  else
-    dir.write("scene.mtl", input.substr(split + kMtlSeparator.size()));
+  const std::string path = dir.write("scene.obj", dir.splitOff(input, kMtlSeparator, "scene.mtl"));
   penumbra::fuzz::checkSceneFile(path, dir.directory());
   return 0;
 }
