@@ -90,6 +90,16 @@ void clipEdgeByPlane(const Vec3& a, const Vec3& b, const Plane& plane, Polygon3&
   }
 }
 
+bool isNearBoundary(const Polygon2& polygon, const Vec2& point, double tolerance) {
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Vec2 a = polygon[i], ab = polygon[(i + 1) % polygon.size()] - a;
+    const double t = std::clamp(dot(point - a, ab) / dot(ab, ab), 0.0, 1.0);
+    const Vec2 d = point - (a + ab * t);
+    if (dot(d, d) <= tolerance * tolerance) return true;
+  }
+  return false;
+}
+
 PlaneFrame PlaneFrame::fromPlane(const Plane& plane, const Vec3& origin) {
   const Vec3 n = plane.normal;
   // Pick the helper axis least aligned with n for a well-conditioned u.

@@ -51,6 +51,8 @@ struct PlaneFrame {
 double signedArea(const Polygon2& polygon);
 // Even-odd containment of a point in a 2D loop; points on the boundary may go either way.
 bool containsPoint(const Polygon2& polygon, const Vec2& point);
+// Whether the point lies within `tolerance` of the loop's boundary (of one of its edges).
+bool isNearBoundary(const Polygon2& polygon, const Vec2& point, double tolerance);
 
 // Why a polygon is unusable, or nothing. Checks: finite coordinates, >= 3 distinct vertices,
 // non-zero area, planarity within `relativePlanarityTolerance` x diameter, no self-intersection.

@@ -4,23 +4,6 @@
 
 namespace penumbra {
 
-namespace {
-
-// Distance from q to the 2D loop's boundary, and whether q is inside (even-odd).
-bool isInsideWithin(const Polygon2& loop, const Vec2& q, double tolerance) {
-  if (containsPoint(loop, q)) return true;
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const Vec2 a = loop[i], b = loop[(i + 1) % loop.size()];
-    const Vec2 ab = b - a;
-    const double t = std::clamp(dot(q - a, ab) / dot(ab, ab), 0.0, 1.0);
-    const Vec2 d = q - (a + ab * t);
-    if (dot(d, d) <= tolerance * tolerance) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 std::optional<ReceiverMatch> locateReceiver(const PosedScene& scene, const UniformGrid& grid,
                                             const Vec3& p, const Vec3& n) {
   const double tolerance = kReceiverRelativeTolerance * scene.extent.diagonalLength();
@@ -35,7 +18,9 @@ std::optional<ReceiverMatch> locateReceiver(const PosedScene& scene, const Unifo
     const PlaneFrame frame = PlaneFrame::fromPlane(polygon.plane, polygon.vertices[0]);
     Polygon2 loop;
     for (const Vec3& v : polygon.vertices) loop.push_back(frame.toLocal(v));
-    if (isInsideWithin(loop, frame.toLocal(p), tolerance)) best = ReceiverMatch{id, distance};
+    const Vec2 q = frame.toLocal(p);
+    if (containsPoint(loop, q) || isNearBoundary(loop, q, tolerance))
+      best = ReceiverMatch{id, distance};
   }
   return best;
 }
