@@ -52,13 +52,14 @@ void benchScene(const std::string& name, const Scene& scene) {
     fullTotal += rebuild;
     std::printf(
         "  frame %d: update %.3f s, full %.3f s (x%.2f); kept %lld casts (%lld recut by the "
-        "mover), %lld traces, %lld of "
+        "mover), %lld traces, %lld of %lld EEE candidate cuts, %lld of "
         "%lld meshes (%lld edited: %lld surfaces out, %lld in; %lld swept again), reused %lld of "
         "%lld faces; stages "
         "s: surfaces %.3f casting %.3f EEE %.3f meshing %.3f "
         "backprojections %.3f verification %.3f; %s\n",
         frame, update, rebuild, rebuild / update, s.keptCasts + s.recastMovedCasts,
-        s.recastMovedCasts, s.keptTraces, s.keptMeshes,
+        s.recastMovedCasts, s.keptTraces, s.keptCandidateCuts,
+        s.keptCandidateCuts + s.examinedCandidateCuts, s.keptMeshes,
         s.keptMeshes + s.rebuiltMeshes + s.editedMeshes, s.editedMeshes, s.removedSurfaces,
         s.insertedSurfaces, s.resweptMeshes, s.reusedFaces, s.meshFaces, s.secondsSurfaces,
         s.secondsCasting, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,

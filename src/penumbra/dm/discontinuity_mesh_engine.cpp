@@ -231,13 +231,17 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
            id < posed_->objectFirstPolygon[move.object + 1]; ++id)
         movedPolygons[size_t(id)] = 1;
   }
-  const auto castOrKeep = [&](DiscontinuitySurface& surface) {
+  // Each surface's index in the frame before, where its cast was taken over (else -1).
+  std::vector<int> previousIndex;
+  const auto castOrKeep = [&](DiscontinuitySurface& surface, size_t index) {
+    if (previousIndex.size() <= index) previousIndex.resize(index + 1, -1);
     const auto [first, last] = previousByFan.equal_range(fanHash(surface));
     for (auto it = first; it != last; ++it) {
       DiscontinuitySurface& before = previousSurfaces[it->second];
       if (!sameFan(before, surface)) continue;
       surface.cells = std::move(before.cells);
       surface.intersections = std::move(before.intersections);
+      previousIndex[index] = int(it->second);
       previousByFan.erase(it);  // taken: no other surface matches it
       if (std::any_of(surface.cells.begin(), surface.cells.end(),
                       [&](int cell) { return movedCells[cell] != 0; })) {
@@ -252,7 +256,20 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   };
   const PosedScene& scene = *posed_;
   reference_ = std::make_unique<ExactReference>(scene, grid_);
+  std::unique_ptr<EdgeAdjacency> previousAdjacency = std::move(adjacency_);
   adjacency_ = std::make_unique<EdgeAdjacency>(scene);
+  // What EEE enumeration found in the frame before, read where its inputs are unchanged (not
+  // when a light moved: every candidate depends on it).
+  EeeCandidateMemo previousCandidates = std::move(eeeCandidates_);
+  eeeCandidates_ = {};
+  std::optional<UnchangedTopology> unchanged;
+  if (change && previousAdjacency && !change->movesLight())
+    unchanged = unchangedTopology(*previousAdjacency, *adjacency_);
+  const std::optional<EeeCandidateReuse> candidateReuse =
+      unchanged ? std::optional<EeeCandidateReuse>(
+                      EeeCandidateReuse{previousCandidates, previousIndex, *unchanged})
+                : std::nullopt;
+  const EeeCandidateReuse* reuseCandidates = candidateReuse ? &*candidateReuse : nullptr;
   backprojections_ = std::make_unique<BackprojectionBuilder>(scene, *reference_);
   stats_.lights = int(scene.lights.size());
   stats_.gridBytes = grid_->memoryBytes();
@@ -297,8 +314,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.secondsSurfaces = secondsSince(start);
 
   start = Clock::now();
-  for (DiscontinuitySurface& s : surfaces_) {
-    castOrKeep(s);
+  for (size_t k = 0; k < surfaces_.size(); ++k) {
+    DiscontinuitySurface& s = surfaces_[k];
+    castOrKeep(s, k);
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
     stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
@@ -400,7 +418,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.surfacesParallelEdgeCrossing = int(afterCasting.size());
   for (PolygonId light : eeeLights) {
     std::vector<CoplanarEdgePair> pairs;
-    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs))
+    for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs,
+                                              &eeeCandidates_, reuseCandidates))
       eeeSurfaces_.push_back(std::move(s));
     for (DiscontinuitySurface& s : coplanarEdgeSurfaces(
              scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + afterCasting.size())))
@@ -410,7 +429,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
   // numbered after them; the EEE surfaces are numbered after all planar ones.
   for (DiscontinuitySurface& s : afterCasting) {
-    castOrKeep(s);
+    castOrKeep(s, surfaces_.size());
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
     stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
@@ -431,11 +450,14 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   const size_t lightEdgeSurfaces = eeeSurfaces_.size();
   for (PolygonId light : options_.occluderEeeSurfaces ? eeeLights : std::vector<PolygonId>{}) {
     const SurfaceId firstId = SurfaceId(surfaces_.size() + eeeSurfaces_.size());
-    for (EeeSurface& s : enumerateOccluderEeeSurfaces(scene, *adjacency_, surfaces_,
-                                                      crossings[light], light, firstId))
+    for (EeeSurface& s :
+         enumerateOccluderEeeSurfaces(scene, *adjacency_, surfaces_, crossings[light], light,
+                                      firstId, &eeeCandidates_, reuseCandidates))
       eeeSurfaces_.push_back(std::move(s));
   }
   stats_.surfacesEeeOccluder = int(eeeSurfaces_.size() - lightEdgeSurfaces);
+  stats_.keptCandidateCuts = eeeCandidates_.keptCuts;
+  stats_.examinedCandidateCuts = eeeCandidates_.foundCuts;
   traceFrom(lightEdgeSurfaces, nullptr);
   stats_.secondsEee = secondsSince(start);
 

@@ -52,6 +52,9 @@ struct DmStats {
   // EEE surfaces whose traced segments were kept: the same light and edges as before, and no
   // moved object's old or new bounds in any of the cells their lines cross.
   long long keptTraces = 0;
+  // EEE enumeration's candidates per EV surface and cut polygon (and per light-edge crossing):
+  // taken over where the surface's generators and the polygon are unchanged, else examined.
+  long long keptCandidateCuts = 0, examinedCandidateCuts = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -326,6 +329,7 @@ class DiscontinuityMeshEngine {
   std::vector<DiscontinuitySurface> surfaces_;
   std::vector<EeeSurface> eeeSurfaces_;
   std::vector<EeeTrace> eeeTraces_;  // one per EEE surface, for the next update
+  EeeCandidateMemo eeeCandidates_;   // what EEE enumeration found, for the next update
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;
 };

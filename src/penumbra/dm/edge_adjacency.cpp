@@ -103,4 +103,38 @@ bool EdgeAdjacency::canVertexBeSilhouette(VertexId v) const {
   return false;
 }
 
+UnchangedTopology unchangedTopology(const EdgeAdjacency& before, const EdgeAdjacency& now) {
+  UnchangedTopology same;
+  const auto& edges = now.edges();
+  same.edges.assign(edges.size(), 0);
+  for (size_t e = 0; e < edges.size() && e < before.edges().size(); ++e) {
+    const SceneEdge &a = before.edges()[e], &b = edges[e];
+    same.edges[e] = a.a == b.a && a.b == b.b && a.polygons == b.polygons &&
+                    a.canBeSilhouette == b.canBeSilhouette &&
+                    before.position(a.a) == now.position(b.a) &&
+                    before.position(a.b) == now.position(b.b);
+  }
+  const auto& vertices = now.vertices();
+  same.vertices.assign(vertices.size(), 0);
+  for (size_t v = 0; v < vertices.size() && v < before.vertices().size(); ++v) {
+    const SceneVertex &a = before.vertices()[v], &b = vertices[v];
+    same.vertices[v] =
+        a.position == b.position && a.edges == b.edges && a.polygons == b.polygons &&
+        std::all_of(b.edges.begin(), b.edges.end(), [&](EdgeId e) { return same.edges[e] != 0; });
+  }
+  const size_t polygons = now.polygonCount();
+  same.polygons.assign(polygons, 0);
+  for (size_t p = 0; p < polygons && p < before.polygonCount(); ++p) {
+    const std::vector<VertexId>& corners = now.polygonVertices(PolygonId(p));
+    if (corners != before.polygonVertices(PolygonId(p))) continue;
+    bool unchanged = true;
+    for (size_t k = 0; k < corners.size() && unchanged; ++k) {
+      const EdgeId e = now.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+      unchanged = same.vertices[corners[k]] != 0 && (e < 0 || same.edges[e] != 0);
+    }
+    same.polygons[p] = unchanged;
+  }
+  return same;
+}
+
 }  // namespace penumbra

@@ -36,6 +36,7 @@ class EdgeAdjacency {
   const Vec3& position(VertexId v) const { return vertices_[v].position; }
   // The vertex of each corner of each polygon.
   const std::vector<VertexId>& polygonVertices(PolygonId p) const { return polygonVertices_[p]; }
+  size_t polygonCount() const { return polygonVertices_.size(); }
   // The edge joining two vertices, or -1.
   EdgeId edgeBetween(VertexId a, VertexId b) const;
 
@@ -56,5 +57,14 @@ class EdgeAdjacency {
   std::vector<SceneEdge> edges_;
   std::vector<std::vector<VertexId>> polygonVertices_;
 };
+
+// What an update may take over from the frame before: per vertex, edge and polygon of `now`,
+// whether the one with the same id in `before` is the same (the same points, incident edges and
+// polygons, silhouette capability; a polygon: the same corners, each of them and every edge
+// between them the same), so that anything computed from it then holds now.
+struct UnchangedTopology {
+  std::vector<char> vertices, edges, polygons;
+};
+UnchangedTopology unchangedTopology(const EdgeAdjacency& before, const EdgeAdjacency& now);
 
 }  // namespace penumbra

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "penumbra/dm/parameter_ranges.h"
@@ -450,13 +451,80 @@ bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
   return std::find(polygons.begin(), polygons.end(), light) != polygons.end();
 }
 
+template <class F>
+void forEachEdgeOf(const EdgeAdjacency& adjacency, PolygonId polygon, F&& f) {
+  const std::vector<VertexId>& corners = adjacency.polygonVertices(polygon);
+  for (size_t k = 0; k < corners.size(); ++k) {
+    // A corner repeated in a row (welded to one vertex) has no edge to the next.
+    const EdgeId e = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+    if (e >= 0) f(e);
+  }
+}
+
+// Are a surface's generator features (its occluder edge, vertex or second edge) what they were?
+bool generatorsUnchanged(const DiscontinuitySurface& s, const SurfaceCandidates& before,
+                         const UnchangedTopology& unchanged) {
+  if (before.kind != s.kind || before.lightFeature != s.lightFeature ||
+      before.occluderFeature != s.occluderFeature || before.secondFeature != s.secondFeature)
+    return false;
+  const bool byVertex = s.kind == SurfaceKind::kEmitterEdgeOccluderVertex ||
+                        s.kind == SurfaceKind::kNonEmitterVertexEdge;
+  if (byVertex ? !unchanged.vertices[size_t(s.occluderFeature)]
+               : !unchanged.edges[size_t(s.occluderFeature)])
+    return false;
+  return s.secondFeature < 0 || unchanged.edges[size_t(s.secondFeature)];
+}
+
+// The candidates of EV surface `index` (`s`), cut polygon by cut polygon in ascending order: taken
+// from the frame before where the generators and the polygon are unchanged, else found by
+// `find(polygon, found)`. Each is handed to `emit` in order and recorded in `memo`.
+template <class Find, class Emit>
+void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidateMemo* memo,
+                       const EeeCandidateReuse* reuse, Find&& find, Emit&& emit) {
+  const SurfaceCandidates* before = nullptr;
+  if (reuse && index < reuse->previousIndex.size() && reuse->previousIndex[index] >= 0) {
+    const SurfaceCandidates& then = reuse->before.bySurface[size_t(reuse->previousIndex[index])];
+    if (generatorsUnchanged(s, then, reuse->unchanged)) before = &then;
+  }
+  SurfaceCandidates now{s.kind, s.lightFeature, s.occluderFeature, s.secondFeature, {}};
+  size_t k = 0;
+  for (size_t c = 0; c < s.intersections.size(); ++c) {
+    const PolygonId polygon = s.intersections[c].polygon;
+    // Cuts are in polygon order; a polygon cut twice gives the same candidates twice.
+    if (c > 0 && s.intersections[c - 1].polygon == polygon) continue;
+    CutCandidates cut{polygon, {}};
+    if (before) {
+      while (k < before->cuts.size() && before->cuts[k].polygon < polygon) ++k;
+      if (k < before->cuts.size() && before->cuts[k].polygon == polygon &&
+          reuse->unchanged.polygons[size_t(polygon)]) {
+        cut.found = before->cuts[k].found;
+        if (memo) ++memo->keptCuts;
+      } else {
+        find(polygon, cut.found);
+        if (memo) ++memo->foundCuts;
+      }
+    } else {
+      find(polygon, cut.found);
+      if (memo) ++memo->foundCuts;
+    }
+    for (const EeeCandidate& candidate : cut.found) emit(candidate);
+    if (memo) now.cuts.push_back(std::move(cut));
+  }
+  if (memo) {
+    if (memo->bySurface.size() <= index) memo->bySurface.resize(index + 1);
+    memo->bySurface[index] = std::move(now);
+  }
+}
+
 }  // namespace
 
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,
                                              PolygonId light, SurfaceId firstId,
-                                             std::vector<CoplanarEdgePair>* coplanar) {
+                                             std::vector<CoplanarEdgePair>* coplanar,
+                                             EeeCandidateMemo* memo,
+                                             const EeeCandidateReuse* reuse) {
   std::vector<EeeSurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
@@ -469,18 +537,17 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     const SceneEdge& e = adjacency.edges()[id];
     return e.canBeSilhouette && !touchesLight(e.polygons, light) && inFront(e);
   };
-  std::unordered_set<std::uint64_t> tried;
-  const auto consider = [&](int l, EdgeId i, EdgeId j) {
-    if (i == j) return;
-    if (j < i) std::swap(i, j);
-    const std::uint64_t key =
-        (std::uint64_t(std::uint32_t(i)) * adjacency.edges().size() + std::uint32_t(j)) *
-            std::uint64_t(lightEdges) +
-        std::uint64_t(l);
-    if (!tried.insert(key).second) return;
+  const auto keyOf = [&](int l, EdgeId i, EdgeId j) {
+    return (std::uint64_t(std::uint32_t(i)) * adjacency.edges().size() + std::uint32_t(j)) *
+               std::uint64_t(lightEdges) +
+           std::uint64_t(l);
+  };
+  // What a (light edge, edge, edge) triple is: a function of the three alone, decided once.
+  std::unordered_map<std::uint64_t, std::optional<EeeCandidate>> decided;
+  const auto decide = [&](int l, EdgeId i, EdgeId j) -> std::optional<EeeCandidate> {
     const SceneEdge& e1 = adjacency.edges()[i];
     const SceneEdge& e2 = adjacency.edges()[j];
-    if (!usable(i) || !usable(j) || sharesVertex(e1, e2)) return;
+    if (!usable(i) || !usable(j) || sharesVertex(e1, e2)) return std::nullopt;
     const Edge3 first{adjacency.position(e1.a), adjacency.position(e1.b)};
     const Edge3 second{adjacency.position(e2.a), adjacency.position(e2.b)};
     // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event of
@@ -490,8 +557,8 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
           std::any_of(e1.polygons.begin(), e1.polygons.end(), [&](PolygonId p) {
             return std::find(e2.polygons.begin(), e2.polygons.end(), p) != e2.polygons.end();
           });
-      if (coplanar && !samePolygon) coplanar->push_back({l, i, j});
-      return;
+      if (samePolygon) return std::nullopt;
+      return EeeCandidate{l, i, j, -1, true};
     }
     const Edge3 lightEdge{lv[l], lv[(l + 1) % lv.size()]};
     // An occluder edge coplanar with the light edge (e.g. parallel to it) makes the lines one
@@ -499,20 +566,30 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     // (parallelEdgeCrossingSurfaces) hold the event.
     if (orientation3d(lightEdge.a, lightEdge.b, first.a, first.b) == Sign::kZero ||
         orientation3d(lightEdge.a, lightEdge.b, second.a, second.b) == Sign::kZero)
+      return std::nullopt;
+    if (validRanges(lightEdge, first, second).empty()) return std::nullopt;
+    return EeeCandidate{l, i, j, -1, false};
+  };
+  std::unordered_set<std::uint64_t> emitted;
+  const auto emit = [&](const EeeCandidate& c) {
+    if (!emitted.insert(keyOf(c.lightEdge, c.a, c.b)).second) return;
+    if (c.coplanar) {
+      if (coplanar) coplanar->push_back({c.lightEdge, c.a, c.b});
       return;
-    if (validRanges(lightEdge, first, second).empty()) return;
+    }
     EeeSurface surface;
     surface.id = firstId + SurfaceId(surfaces.size());
     surface.light = light;
-    surface.lightEdge = l;
-    surface.first = i;
-    surface.second = j;
+    surface.lightEdge = c.lightEdge;
+    surface.first = c.a;
+    surface.second = c.b;
     surfaces.push_back(std::move(surface));
   };
   // Every range of critical lines ends on a line through a light vertex or an occluder edge's
   // endpoint (validRanges), and such a line lies in the emitter EV fan of that vertex, where the
   // other edge's polygon cuts the fan: the fans' stored intersections hold every pair.
-  for (const DiscontinuitySurface& s : evSurfaces) {
+  for (size_t index = 0; index < evSurfaces.size(); ++index) {
+    const DiscontinuitySurface& s = evSurfaces[index];
     if (s.light != light) continue;
     std::vector<std::pair<int, EdgeId>> generators;  // (light edge, occluder edge)
     if (s.kind == SurfaceKind::kEmitterVertexOccluderEdge) {
@@ -529,13 +606,22 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     } else {
       continue;
     }
-    for (const SurfaceIntersection& cut : s.intersections) {
-      const std::vector<VertexId>& corners = adjacency.polygonVertices(cut.polygon);
-      for (size_t k = 0; k < corners.size(); ++k) {
-        const EdgeId j = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
-        for (const auto& [l, i] : generators) consider(l, i, j);
-      }
-    }
+    const auto find = [&](PolygonId polygon, std::vector<EeeCandidate>& found) {
+      std::unordered_set<std::uint64_t> here;
+      forEachEdgeOf(adjacency, polygon, [&](EdgeId j) {
+        for (auto [l, i] : generators) {
+          EdgeId a = i, b = j;
+          if (a == b) continue;
+          if (b < a) std::swap(a, b);
+          const std::uint64_t key = keyOf(l, a, b);
+          if (!here.insert(key).second) continue;
+          auto it = decided.find(key);
+          if (it == decided.end()) it = decided.emplace(key, decide(l, a, b)).first;
+          if (it->second) found.push_back(*it->second);
+        }
+      });
+    };
+    surfaceCandidates(s, index, memo, reuse, find, emit);
   }
   return surfaces;
 }
@@ -543,7 +629,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
 std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
     const std::vector<DiscontinuitySurface>& evSurfaces, const std::vector<EeeCrossing>& crossings,
-    PolygonId light, SurfaceId firstId) {
+    PolygonId light, SurfaceId firstId, EeeCandidateMemo* memo, const EeeCandidateReuse* reuse) {
   std::vector<EeeSurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const auto& edges = adjacency.edges();
@@ -566,48 +652,86 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
       return size_t(h ^ (h >> 29));
     }
   };
-  std::unordered_set<std::array<EdgeId, 3>, TripleHash> tried;
-  const auto consider = [&](EdgeId i, EdgeId j, EdgeId k) {
-    if (i < 0 || j < 0 || k < 0 || i == j || j == k || i == k) return;
-    std::array<EdgeId, 3> e{i, j, k};
-    std::sort(e.begin(), e.end());
-    if (!tried.insert(e).second) return;
+  // What a triple of edges is: a function of the three alone, decided once.
+  std::unordered_map<std::array<EdgeId, 3>, bool, TripleHash> decided;
+  const auto decide = [&](const std::array<EdgeId, 3>& e) {
     for (EdgeId id : e)
-      if (!usable(id)) return;
+      if (!usable(id)) return false;
     const SceneEdge &a = edges[e[0]], &b = edges[e[1]], &c = edges[e[2]];
-    if (sharesVertex(a, b) || sharesVertex(b, c) || sharesVertex(a, c)) return;
+    if (sharesVertex(a, b) || sharesVertex(b, c) || sharesVertex(a, c)) return false;
     // Two coplanar edges put every line meeting both in their plane (or through one point): the
     // occluder-plane events, not a quadric.
-    if (coplanar(a, b) || coplanar(b, c) || coplanar(a, c)) return;
+    if (coplanar(a, b) || coplanar(b, c) || coplanar(a, c)) return false;
     EeeSurface surface;
-    surface.id = firstId + SurfaceId(surfaces.size());
     surface.light = light;
     surface.kind = EeeKind::kOccluderEdges;
     surface.first = e[0];
     surface.second = e[1];
     surface.third = e[2];
-    if (LineFamily(surface, scene, adjacency).ranges().empty()) return;
-    surfaces.push_back(std::move(surface));
+    return !LineFamily(surface, scene, adjacency).ranges().empty();
   };
-  const auto forEachEdgeOf = [&](PolygonId polygon, auto&& f) {
-    const std::vector<VertexId>& corners = adjacency.polygonVertices(polygon);
-    for (size_t k = 0; k < corners.size(); ++k)
-      f(adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]));
+  // The candidates among (i, j, k) for each k, each triple once.
+  const auto findAll = [&](std::vector<std::array<EdgeId, 2>> pairs, PolygonId polygon,
+                           std::vector<EeeCandidate>& found) {
+    std::unordered_set<std::array<EdgeId, 3>, TripleHash> here;
+    forEachEdgeOf(adjacency, polygon, [&](EdgeId k) {
+      for (auto [i, j] : pairs) {
+        if (i < 0 || j < 0 || i == j || j == k || i == k) continue;
+        std::array<EdgeId, 3> e{i, j, k};
+        std::sort(e.begin(), e.end());
+        if (!here.insert(e).second) continue;
+        auto it = decided.find(e);
+        if (it == decided.end()) it = decided.emplace(e, decide(e)).first;
+        if (it->second) found.push_back({-1, e[0], e[1], e[2], false});
+      }
+    });
+  };
+  std::unordered_set<std::array<EdgeId, 3>, TripleHash> emitted;
+  const auto emit = [&](const EeeCandidate& c) {
+    if (!emitted.insert({c.a, c.b, c.c}).second) return;
+    EeeSurface surface;
+    surface.id = firstId + SurfaceId(surfaces.size());
+    surface.light = light;
+    surface.kind = EeeKind::kOccluderEdges;
+    surface.first = c.a;
+    surface.second = c.b;
+    surface.third = c.c;
+    surfaces.push_back(std::move(surface));
   };
   // Ranges ending on a line through an occluder vertex v: it lies in the non-emitter EV fan of v
   // and one of the other edges, where the third edge's polygon cuts the fan.
-  for (const DiscontinuitySurface& s : evSurfaces) {
+  for (size_t index = 0; index < evSurfaces.size(); ++index) {
+    const DiscontinuitySurface& s = evSurfaces[index];
     if (s.light != light || s.kind != SurfaceKind::kNonEmitterVertexEdge) continue;
-    const std::vector<EdgeId>& atVertex = adjacency.vertices()[s.occluderFeature].edges;
-    for (const SurfaceIntersection& cut : s.intersections)
-      forEachEdgeOf(cut.polygon, [&](EdgeId k) {
-        for (EdgeId i : atVertex) consider(i, EdgeId(s.secondFeature), k);
-      });
+    std::vector<std::array<EdgeId, 2>> pairs;
+    for (EdgeId i : adjacency.vertices()[s.occluderFeature].edges)
+      pairs.push_back({i, EdgeId(s.secondFeature)});
+    surfaceCandidates(
+        s, index, memo, reuse,
+        [&](PolygonId polygon, std::vector<EeeCandidate>& found) {
+          findAll(pairs, polygon, found);
+        },
+        emit);
   }
   // Ranges ending on a line through a light edge: that line belongs to a light-edge surface,
   // whose lines on one side of it cross the third edge's polygon.
-  for (const EeeCrossing& c : crossings)
-    forEachEdgeOf(c.polygon, [&](EdgeId k) { consider(c.first, c.second, k); });
+  for (const EeeCrossing& c : crossings) {
+    const std::array<int, 4> key{light, c.first, c.second, c.polygon};
+    const std::vector<EeeCandidate>* before = nullptr;
+    if (reuse && reuse->unchanged.edges[size_t(c.first)] &&
+        reuse->unchanged.edges[size_t(c.second)] && reuse->unchanged.polygons[size_t(c.polygon)]) {
+      const auto it = reuse->before.byCrossing.find(key);
+      if (it != reuse->before.byCrossing.end()) before = &it->second;
+    }
+    std::vector<EeeCandidate> found;
+    if (before)
+      found = *before;
+    else
+      findAll({{c.first, c.second}}, c.polygon, found);
+    if (memo) ++(before ? memo->keptCuts : memo->foundCuts);
+    for (const EeeCandidate& candidate : found) emit(candidate);
+    if (memo) memo->byCrossing[key] = std::move(found);
+  }
   return surfaces;
 }
 

@@ -15,6 +15,8 @@
 // The polyline stands a bounded distance from the true conic; the engine keeps irradiance exact
 // by recomputing the backprojection at points within that distance (see DiscontinuityMeshEngine).
 
+#include <array>
+#include <map>
 #include <vector>
 
 #include "penumbra/dm/discontinuity_surface.h"
@@ -53,6 +55,39 @@ struct EeeSurface {
 double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
                const Vec3& p);
 
+// What enumeration found in each EV surface's cuts, kept for the next frame (the paper's
+// intersection lists, carried one step further): the candidates a cut polygon's edges form with
+// a surface's generator features are a function of those edges, the generators and the light
+// alone, so an update takes them over wherever none of these changed.
+struct EeeCandidate {
+  int lightEdge = -1;           // light-edge surfaces; -1 for three occluder edges
+  EdgeId a = 0, b = 0, c = -1;  // the occluder edges (c: the third)
+  bool coplanar = false;        // a coplanar pair for coplanarEdgeSurfaces, not a quadric
+  bool operator==(const EeeCandidate&) const = default;
+};
+struct CutCandidates {
+  PolygonId polygon = 0;
+  std::vector<EeeCandidate> found;  // in the order enumeration meets them
+};
+struct SurfaceCandidates {
+  SurfaceKind kind = SurfaceKind::kEmitterVertexOccluderEdge;
+  int lightFeature = 0, occluderFeature = 0, secondFeature = -1;  // the surface's generators
+  std::vector<CutCandidates> cuts;                                // by cut polygon, ascending
+};
+struct EeeCandidateMemo {
+  std::vector<SurfaceCandidates> bySurface;  // by EV surface index
+  // Three-edge candidates from a light-edge surface's crossed polygon, by (light, first edge,
+  // second edge, polygon).
+  std::map<std::array<int, 4>, std::vector<EeeCandidate>> byCrossing;
+  long long keptCuts = 0, foundCuts = 0;  // cuts (and crossings) taken over, and examined
+};
+// The frame before's memo and how to read it now.
+struct EeeCandidateReuse {
+  const EeeCandidateMemo& before;
+  const std::vector<int>& previousIndex;  // per EV surface: its index in the frame before, or -1
+  const UnchangedTopology& unchanged;     // polygons, edges and vertices as they were then
+};
+
 // Surfaces for every light edge and pair of silhouette-capable occluder edges (not sharing a
 // vertex) that some line meeting all three crosses in front of the light. The pairs come from the
 // emitter EV surfaces of `light` after casting: every range of such lines ends on a line of one of
@@ -63,7 +98,9 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,
                                              PolygonId light, SurfaceId firstId,
-                                             std::vector<CoplanarEdgePair>* coplanar = nullptr);
+                                             std::vector<CoplanarEdgePair>* coplanar = nullptr,
+                                             EeeCandidateMemo* memo = nullptr,
+                                             const EeeCandidateReuse* reuse = nullptr);
 
 // Surfaces for every triple of silhouette-capable occluder edges (pairwise sharing no vertex, no
 // two coplanar) that some line meeting all three and the light's interior crosses in front of the
@@ -79,7 +116,8 @@ struct EeeCrossing {
 std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
     const std::vector<DiscontinuitySurface>& evSurfaces, const std::vector<EeeCrossing>& crossings,
-    PolygonId light, SurfaceId firstId);
+    PolygonId light, SurfaceId firstId, EeeCandidateMemo* memo = nullptr,
+    const EeeCandidateReuse* reuse = nullptr);
 
 // The visible pieces of `surface` on receivers, as polylines split into segments (and fills
 // surface.cells). With `crossed`, a light-edge surface sets it to the polygons its traced lines
