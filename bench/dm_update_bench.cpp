@@ -5,8 +5,10 @@
 // Usage: dm_update_bench [SCENE...]  (default: desk-145, desk-475, the chair room, and a generated
 // 1,000-polygon room with 5 frames)
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -25,6 +27,18 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The process's processor time: the engine runs on one thread, and on a shared machine this
+// varies far less than the wall clock.
+double cpuSeconds() {
+  return double(std::clock()) / CLOCKS_PER_SEC;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
 void benchScene(const std::string& name, const Scene& scene) {
   std::printf("%s (%d polygons, %d frames)\n", name.c_str(), scene.polygonCount(), scene.frames);
   DynamicScene live(scene, 0);
@@ -34,40 +48,49 @@ void benchScene(const std::string& name, const Scene& scene) {
   std::printf("  frame 0: built in %.3f s, %lld faces\n", secondsSince(start),
               engine.stats().meshFaces);
   double updateTotal = 0, fullTotal = 0;
+  std::vector<double> updateCpu, fullCpu;
   for (int frame = 1; frame < scene.frames; ++frame) {
     const SceneChange change = live.changeToFrame(frame);
     start = Clock::now();
+    double cpu = cpuSeconds();
     live.apply(change);
     engine.update(live, change);
     const double update = secondsSince(start);
+    updateCpu.push_back(cpuSeconds() - cpu);
     const DmStats s = engine.stats();
     start = Clock::now();
+    cpu = cpuSeconds();
     const DynamicScene scratch(scene, frame);
     DiscontinuityMeshEngine full;
     full.build(scratch);
     const double rebuild = secondsSince(start);
+    fullCpu.push_back(cpuSeconds() - cpu);
     const bool identical =
         !firstDifference(buildIrradianceMesh(engine), buildIrradianceMesh(full)).has_value();
     updateTotal += update;
     fullTotal += rebuild;
     std::printf(
-        "  frame %d: update %.3f s, full %.3f s (x%.2f); kept %lld casts (%lld recut by the "
+        "  frame %d: update %.3f s, full %.3f s (x%.2f; processor time %.3f s vs %.3f s); kept "
+        "%lld casts (%lld recut by the "
         "mover), %lld traces, %lld of %lld EEE candidate cuts, %lld of "
         "%lld meshes (%lld edited: %lld surfaces out, %lld in; %lld swept again), reused %lld of "
         "%lld faces; stages "
         "s: surfaces %.3f casting %.3f EEE %.3f meshing %.3f "
         "backprojections %.3f verification %.3f; %s\n",
-        frame, update, rebuild, rebuild / update, s.keptCasts + s.recastMovedCasts,
-        s.recastMovedCasts, s.keptTraces, s.keptCandidateCuts,
+        frame, update, rebuild, rebuild / update, updateCpu.back(), fullCpu.back(),
+        s.keptCasts + s.recastMovedCasts, s.recastMovedCasts, s.keptTraces, s.keptCandidateCuts,
         s.keptCandidateCuts + s.examinedCandidateCuts, s.keptMeshes,
         s.keptMeshes + s.rebuiltMeshes + s.editedMeshes, s.editedMeshes, s.removedSurfaces,
         s.insertedSurfaces, s.resweptMeshes, s.reusedFaces, s.meshFaces, s.secondsSurfaces,
         s.secondsCasting, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
         s.secondsVerification, identical ? "identical to full" : "DIFFERS FROM FULL");
   }
-  if (scene.frames > 1)
+  if (scene.frames > 1) {
     std::printf("  all steps: update %.3f s, full %.3f s, ratio x%.2f\n", updateTotal, fullTotal,
                 fullTotal / updateTotal);
+    std::printf("  median processor time: update %.4f s, full %.4f s, ratio x%.2f\n",
+                median(updateCpu), median(fullCpu), median(fullCpu) / median(updateCpu));
+  }
 }
 
 }  // namespace

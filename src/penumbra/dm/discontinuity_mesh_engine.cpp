@@ -552,6 +552,16 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     data.eeeSurfaceIds = eeeSurfacesOnReceiver[receiver.id];
     data.inputs = std::move(segments);
     // Faces whose data can be taken from the frame before, by their index there.
+    // A kept mesh with its polylines (so its faces' probes) unchanged, whose receiver's box with
+    // the lights no moved object crosses: no face's cone can admit a moved polygon (each face's
+    // box lies in the receiver's), so every face keeps its data (same indices) untouched.
+    if (keepMesh && sameEee && !change->movesLight() && !isCrossed(receiver.bounds, *change)) {
+      data.faces = std::move(oldFaceData);
+      stats_.reusedFaces += (long long)data.faces.size();
+      stats_.recomputedFaces += (long long)data.faces.size();
+      receivers_.emplace(receiver.id, std::move(data));
+      continue;
+    }
     std::vector<int> reusable(data.mesh.faces().size(), -1);
     if ((keepMesh || editMesh) && !change->movesLight())
       for (const MeshFace& face : data.mesh.faces()) {

@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <set>
 #include <tuple>
 #include <unordered_map>
@@ -36,9 +38,9 @@ struct VertexData {
 using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 using Point = Kernel::Point_2;
 using FT = Kernel::FT;
-// Landmarks: fast queries on large meshes; it observes the arrangement, so edits keep it valid.
+// Landmarks: fast queries on large meshes (attached lazily, see Impl::attachedLocator).
 using PointLocation = CGAL::Arr_landmarks_point_location<Arrangement>;
-// Edits locate with a walk: landmarks rebuild themselves after every edit.
+// Edits locate with a walk: attached landmarks rebuild themselves after every edit.
 using WalkLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
 
 // Where a piece comes from, in the doubles it was computed from: its segment's ends, and the ends
@@ -67,7 +69,27 @@ struct ReceiverMesh::Impl {
   Plane plane;
   Polygon2 outline;
   Arrangement arrangement;
-  PointLocation locator{arrangement};
+  // Attached on the first query after an edit (locate() may run on several threads at once):
+  // attached, it rebuilds after every change to the arrangement, and an update or a build that
+  // nobody queries would pay for that on every receiver it touches.
+  mutable PointLocation locator;
+  mutable std::mutex locatorMutex;
+  mutable std::atomic<bool> locatorAttached{false};
+  void detachLocator() {
+    if (!locatorAttached.load(std::memory_order_acquire)) return;
+    locator.detach();
+    locatorAttached.store(false, std::memory_order_release);
+  }
+  const PointLocation& attachedLocator() const {
+    if (!locatorAttached.load(std::memory_order_acquire)) {
+      const std::lock_guard<std::mutex> lock(locatorMutex);
+      if (!locatorAttached.load(std::memory_order_relaxed)) {
+        locator.attach(arrangement);
+        locatorAttached.store(true, std::memory_order_release);
+      }
+    }
+    return locator;
+  }
   std::vector<MeshFace> faces;
   // The receiver's outline, and whether the arrangement still holds nothing else (see insert()).
   std::vector<Traits::Curve_2> boundary;
@@ -151,6 +173,7 @@ struct ReceiverMesh::Impl {
   // on a 10k-polygon room's floor; the construction sweep is not). Vertex data and cached faces
   // go with the old arrangement.
   void sweep(std::vector<Traits::Curve_2> curves) {
+    detachLocator();
     curves.insert(curves.end(), boundary.begin(), boundary.end());
     arrangement.clear();
     vertices.clear();
@@ -590,6 +613,7 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
   curves.reserve(pieces.size());
   for (const Piece& p : pieces) curves.push_back(curveOf(p));
   // The first insertion builds the arrangement in one sweep (Impl::sweep).
+  impl_->detachLocator();
   if (impl_->onlyBoundary && !curves.empty())
     impl_->sweep(std::move(curves));
   else
@@ -655,7 +679,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   // vertices at their ends, and at the ends of edges that lost a surface, may be left isolated or
   // between two collinear edges of equal surfaces, which the arrangement of the remaining pieces
   // lacks unless they end a piece there.
-  m.locator.detach();
+  m.detachLocator();
   std::vector<Arrangement::Halfedge_handle> doomed;
   std::vector<Arrangement::Vertex_handle> touched;
   for (auto e = m.arrangement.edges_begin(); e != m.arrangement.edges_end(); ++e) {
@@ -724,7 +748,6 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     for (const Piece& p : now)
       if (added.count(p.surface)) CGAL::insert(m.arrangement, curveOf(p), walk);
   }
-  m.locator.attach(m.arrangement);
   m.pieces = std::move(now);
   return m.indexFaces();
 }
@@ -761,7 +784,7 @@ bool ReceiverMesh::isInside(const Vec3& p, int face) const {
 }
 
 std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
-  const auto result = impl_->locator.locate(impl_->toPoint(p));
+  const auto result = impl_->attachedLocator().locate(impl_->toPoint(p));
   Arrangement::Face_const_handle face;
   if (const auto* f = boost::get<Arrangement::Face_const_handle>(&result)) {
     face = *f;
