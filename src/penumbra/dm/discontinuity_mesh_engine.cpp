@@ -159,26 +159,31 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
 }  // namespace
 
 bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshFace& face,
-                                            const SegmentProximity& eeeBefore, bool sameEee,
+                                            const SegmentProximity& eeeBefore,
+                                            const SegmentProximity& eeeChanged, bool sameEee,
                                             const SceneChange& change) const {
   // The face's data is computed from its boundary (here the same vertices), its sample, and its
   // corner probes (labelsHoldAtCorners): a backprojection per light at each, which reads only the
   // polygons its cone admits (ExactReference::mayOcclude). The probes are the points just inside
   // its corners that lie strictly inside it (a function of its geometry) and away from EEE
   // polylines: the same where the polylines near every such point are the same.
+  // Every test below is on the set of inset points, in any order.
   std::vector<Vec3> insets;
   Box3 bounds;
-  for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
-    for (const Vec3& corner : cycle) {
-      insets.push_back(corner + (face.samplePoint - corner) * kCornerInset);
-      bounds.extend(corner);
-    }
+  for (const Vec3& corner : now.mesh.faceCorners(face.index)) {
+    insets.push_back(corner + (face.samplePoint - corner) * kCornerInset);
+    bounds.extend(corner);
+  }
   if (!sameEee) {
+    // Whether a point is near a polyline changes only where a polyline that changed (one of
+    // `eeeChanged`, the polylines of either frame missing from the other) is near it.
     const double near = nearEee();
-    if (now.eeeSegments.near(face.samplePoint, near) != eeeBefore.near(face.samplePoint, near))
-      return false;
+    const auto differs = [&](const Vec3& p) {
+      return eeeChanged.near(p, near) && now.eeeSegments.near(p, near) != eeeBefore.near(p, near);
+    };
+    if (differs(face.samplePoint)) return false;
     for (const Vec3& p : insets)
-      if (now.eeeSegments.near(p, near) != eeeBefore.near(p, near)) return false;
+      if (differs(p)) return false;
   }
   // Nothing moved (old or new bounds) through the box around the face and the lights: no cone
   // can admit a moved polygon. Else the cones themselves, from the sample and every inset point
@@ -563,13 +568,29 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       continue;
     }
     std::vector<int> reusable(data.mesh.faces().size(), -1);
-    if ((keepMesh || editMesh) && !change->movesLight())
+    if ((keepMesh || editMesh) && !change->movesLight()) {
+      // The polylines of either frame that the other lacks.
+      SegmentProximity eeeChanged;
+      if (!sameEee) {
+        const auto less = [](const std::pair<Vec3, Vec3>& a, const std::pair<Vec3, Vec3>& b) {
+          return std::tie(a.first.x, a.first.y, a.first.z, a.second.x, a.second.y, a.second.z) <
+                 std::tie(b.first.x, b.first.y, b.first.z, b.second.x, b.second.y, b.second.z);
+        };
+        std::vector<std::pair<Vec3, Vec3>> then = before->eeeInputs, nowEee = data.eeeInputs,
+                                           changed;
+        std::sort(then.begin(), then.end(), less);
+        std::sort(nowEee.begin(), nowEee.end(), less);
+        std::set_symmetric_difference(then.begin(), then.end(), nowEee.begin(), nowEee.end(),
+                                      std::back_inserter(changed), less);
+        eeeChanged = SegmentProximity(std::move(changed));
+      }
       for (const MeshFace& face : data.mesh.faces()) {
         const int g = previousFace[face.index];
-        if (g >= 0 &&
-            keepsFaceData(data, face, keepMesh ? data.eeeSegments : eeeBefore, sameEee, *change))
+        if (g >= 0 && keepsFaceData(data, face, keepMesh ? data.eeeSegments : eeeBefore, eeeChanged,
+                                    sameEee, *change))
           reusable[face.index] = g;
       }
+    }
     const auto backprojecting = Clock::now();
     computeFaceBackprojections(receiver.id, data, sliver, [&](int face) -> const FaceData* {
       return reusable[face] >= 0 ? &oldFaceData[reusable[face]] : nullptr;

@@ -310,12 +310,13 @@ class DiscontinuityMeshEngine {
   bool isCrossed(const Box3& region, const SceneChange& change) const;
   // May an update keep the data of `face` (of the receiver's new data `now`), computed in the
   // frame before for a face with the same boundary vertices (whose receiver had the EEE
-  // polylines `eeeBefore`: `sameEee` when they are now's)? Yes when it would be computed again
+  // polylines `eeeBefore`: `sameEee` when they are now's; `eeeChanged` holds the polylines of
+  // either frame that the other lacks)? Yes when it would be computed again
   // from the same inputs: the same corner probes, and no moved object's old or new bounds
   // admitted by the cone from the sample or a probe to any light.
   bool keepsFaceData(const ReceiverData& now, const MeshFace& face,
-                     const SegmentProximity& eeeBefore, bool sameEee,
-                     const SceneChange& change) const;
+                     const SegmentProximity& eeeBefore, const SegmentProximity& eeeChanged,
+                     bool sameEee, const SceneChange& change) const;
   // The mesh and face statistics summed over the receivers.
   void tallyReceivers();
 

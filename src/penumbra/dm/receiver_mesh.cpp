@@ -231,12 +231,21 @@ struct ReceiverMesh::Impl {
   // answer the same in principle; measured, CGAL's landmarks answered differently for a point
   // within an ulp of a sliver in two identical arrangements built by different histories.
   bool strictlyInside(Arrangement::Face_const_handle f, const Point& q) const {
+    // An edge wholly above or wholly below q (certain from the intervals that bound its ends'
+    // exact ordinates) neither crosses the ray nor holds q: only the others need exact tests.
+    const CGAL::Interval_nt<false> qy = q.approx().y();
+    const auto beside = [&](const Point& a, const Point& b) {
+      const CGAL::Interval_nt<false> ay = a.approx().y(), by = b.approx().y();
+      return (ay.sup() < qy.inf() && by.sup() < qy.inf()) ||
+             (ay.inf() > qy.sup() && by.inf() > qy.sup());
+    };
     const auto parity = [&](Arrangement::Ccb_halfedge_const_circulator first) -> int {
       bool inside = false;
       auto c = first;
       do {
         const Point& a = c->source()->point();
         const Point& b = c->target()->point();
+        if (beside(a, b)) continue;
         const CGAL::Orientation turn = CGAL::orientation(a, b, q);
         if (turn == CGAL::COLLINEAR && CGAL::collinear_are_ordered_along_line(a, q, b)) return 0;
         const bool aBelow = CGAL::compare_y(a, q) != CGAL::LARGER;
@@ -861,6 +870,19 @@ std::vector<Polygon3> ReceiverMesh::faceBoundary(int face) const {
     cycles.push_back(std::move(out));
   }
   return cycles;
+}
+
+std::vector<Vec3> ReceiverMesh::faceCorners(int face) const {
+  std::vector<Vec3> corners;
+  const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
+  const auto walk = [&](Arrangement::Ccb_halfedge_const_circulator first) {
+    auto c = first;
+    do corners.push_back(impl_->worldOf(c->source()));
+    while (++c != first);
+  };
+  if (f->has_outer_ccb()) walk(f->outer_ccb());
+  for (auto h = f->holes_begin(); h != f->holes_end(); ++h) walk(*h);
+  return corners;
 }
 
 std::vector<std::pair<Vec3, Vec3>> ReceiverMesh::faceBoundarySegments(int face) const {

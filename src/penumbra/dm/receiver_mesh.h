@@ -85,6 +85,9 @@ class ReceiverMesh {
   // included (for drawing, triangulation and diagnostics). Canonical: each cycle starts at its
   // lexicographically least vertex sequence, holes in the order of those sequences.
   std::vector<Polygon3> faceBoundary(int face) const;
+  // The vertices of a face's boundary cycles (antennas' bases twice), in the arrangement's order:
+  // a function of the face's geometry as a multiset only, for order-free tests.
+  std::vector<Vec3> faceCorners(int face) const;
   // The edges that separate a face from other faces (antennas left out), as 3D segments.
   std::vector<std::pair<Vec3, Vec3>> faceBoundarySegments(int face) const;
   // Every edge separating two different inside faces (face adjacency for propagating per-face
