@@ -238,8 +238,12 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   }
   // Each surface's index in the frame before, where its cast was taken over (else -1).
   std::vector<int> previousIndex;
+  std::vector<char> keptCast;  // and whether its cuts are all as they were
   const auto castOrKeep = [&](DiscontinuitySurface& surface, size_t index) {
-    if (previousIndex.size() <= index) previousIndex.resize(index + 1, -1);
+    if (previousIndex.size() <= index) {
+      previousIndex.resize(index + 1, -1);
+      keptCast.resize(index + 1, 0);
+    }
     const auto [first, last] = previousByFan.equal_range(fanHash(surface));
     for (auto it = first; it != last; ++it) {
       DiscontinuitySurface& before = previousSurfaces[it->second];
@@ -254,6 +258,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         ++stats_.recastMovedCasts;
       } else {
         ++stats_.keptCasts;
+        keptCast[index] = 1;
       }
       return;
     }
@@ -275,6 +280,26 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                       EeeCandidateReuse{previousCandidates, previousIndex, *unchanged})
                 : std::nullopt;
   const EeeCandidateReuse* reuseCandidates = candidateReuse ? &*candidateReuse : nullptr;
+  // The non-emitter enumeration's vertices, read where every polygon that did not move kept its
+  // ids, corners and edges, none shared with a moved one (else a static edge's silhouette test
+  // would read moved geometry, and which polygon examines an edge first could change).
+  std::map<PolygonId, NonEmitterEvMemo> previousNonEmitter = std::move(nonEmitter_);
+  nonEmitter_.clear();
+  bool staticUnchanged = unchanged.has_value();
+  for (size_t p = 0; staticUnchanged && p < scene.polygons.size(); ++p) {
+    if (movedPolygons[p]) continue;
+    staticUnchanged = unchanged->polygons[p] != 0;
+    const std::vector<VertexId>& corners = adjacency_->polygonVertices(PolygonId(p));
+    for (size_t k = 0; staticUnchanged && k < corners.size(); ++k) {
+      const EdgeId e = adjacency_->edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+      if (e < 0) continue;
+      for (PolygonId q : adjacency_->edges()[e].polygons)
+        staticUnchanged = staticUnchanged && !movedPolygons[size_t(q)];
+    }
+  }
+  std::vector<PolygonId> movedIds;
+  for (size_t p = 0; p < movedPolygons.size(); ++p)
+    if (movedPolygons[p]) movedIds.push_back(PolygonId(p));
   backprojections_ = std::make_unique<BackprojectionBuilder>(scene, *reference_);
   stats_.lights = int(scene.lights.size());
   stats_.gridBytes = grid_->memoryBytes();
@@ -284,8 +309,19 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     std::vector<DiscontinuitySurface> surfaces =
         enumerateEmitterEvSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
+    const auto before = previousNonEmitter.find(light);
+    const std::optional<NonEmitterEvReuse> nonEmitterReuse =
+        staticUnchanged && before != previousNonEmitter.end()
+            ? std::optional<NonEmitterEvReuse>(
+                  NonEmitterEvReuse{before->second, unchanged->vertices, movedIds,
+                                    [&](PolygonId p) { return movedPolygons[size_t(p)] != 0; }})
+            : std::nullopt;
+    NonEmitterEvMemo& memo = nonEmitter_[light];
     surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,
-                                             SurfaceId(surfaces_.size()));
+                                             SurfaceId(surfaces_.size()), &memo,
+                                             nonEmitterReuse ? &*nonEmitterReuse : nullptr);
+    stats_.keptNonEmitterVertices += memo.keptVertices;
+    stats_.examinedNonEmitterVertices += memo.examinedVertices;
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
     surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light,
                                               SurfaceId(surfaces_.size()));
@@ -329,12 +365,29 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.secondsCasting = secondsSince(start);
 
   start = Clock::now();
+  // A surface's visible pieces are a function of its fan, hinge polygons and cuts: a kept cast
+  // with the same hinge polygons has those of the frame before (under its new id).
+  std::vector<std::vector<DiscontinuitySegment>> previousVisible = std::move(visible_);
+  visible_.clear();
   std::map<PolygonId, std::vector<DiscontinuitySegment>> perReceiver;
-  for (const DiscontinuitySurface& s : surfaces_)
-    for (DiscontinuitySegment& segment : visibleSegments(s)) {
-      ++stats_.visibleSegments;
-      perReceiver[segment.receiver].push_back(std::move(segment));
+  const auto addVisible = [&](const DiscontinuitySurface& s, size_t index) {
+    std::vector<DiscontinuitySegment> pieces;
+    const int then = index < previousIndex.size() ? previousIndex[index] : -1;
+    if (then >= 0 && keptCast[index] && size_t(then) < previousVisible.size() &&
+        previousSurfaces[size_t(then)].hingePolygons == s.hingePolygons) {
+      pieces = std::move(previousVisible[size_t(then)]);
+      for (DiscontinuitySegment& segment : pieces) segment.surface = s.id;
+    } else {
+      pieces = visibleSegments(s);
     }
+    for (const DiscontinuitySegment& segment : pieces) {
+      ++stats_.visibleSegments;
+      perReceiver[segment.receiver].push_back(segment);
+    }
+    if (visible_.size() <= index) visible_.resize(index + 1);
+    visible_[index] = std::move(pieces);
+  };
+  for (size_t k = 0; k < surfaces_.size(); ++k) addVisible(surfaces_[k], k);
   stats_.secondsVisibility = secondsSince(start);
 
   start = Clock::now();
@@ -367,6 +420,13 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   for (size_t i = 0; i < previousTraces.size(); ++i)
     previousByKey.emplace(previousTraces[i].key.hash(), i);
   const bool mayKeepTraces = change && !change->movesLight();
+  // A trace reads only the polygons its lines cross (traceEeeSurface): none of them moved where
+  // no moved object's old or new bounds (with a margin for the crossing's rounding) meet a line.
+  std::vector<Box3> movedBounds;
+  if (change)
+    for (const ObjectMove& move : change->moves)
+      for (const Box3& box : {move.boundsBefore, move.boundsAfter})
+        movedBounds.push_back(box.expanded(1e-9 * scene.extent.diagonalLength()));
   const auto traceFrom = [&](size_t first, std::map<PolygonId, std::vector<EeeCrossing>>* to) {
     for (size_t k = first; k < eeeSurfaces_.size(); ++k) {
       EeeSurface& s = eeeSurfaces_[k];
@@ -378,8 +438,13 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         for (auto it = from; it != until && !kept; ++it) {
           const EeeTrace& before = previousTraces[it->second];
           if (before.key == trace.key &&
-              std::none_of(before.cells.begin(), before.cells.end(),
-                           [&](int cell) { return movedCells[cell] != 0; }))
+              (std::none_of(before.cells.begin(), before.cells.end(),
+                            [&](int cell) { return movedCells[cell] != 0; }) ||
+               std::none_of(before.lines.begin(), before.lines.end(), [&](const auto& line) {
+                 return std::any_of(movedBounds.begin(), movedBounds.end(), [&](const Box3& b) {
+                   return b.meetsSegment(line.first, line.second);
+                 });
+               })))
             kept = &before;
         }
       }
@@ -388,11 +453,12 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         s.truncated = kept->truncated;
         crossed = kept->crossed;
         trace.segments = kept->segments;
+        trace.lines = kept->lines;
         for (DiscontinuitySegment& segment : trace.segments) segment.surface = s.id;
         ++stats_.keptTraces;
       } else {
-        trace.segments =
-            traceEeeSurface(s, scene, *adjacency_, *grid_, chord, to ? &crossed : nullptr);
+        trace.segments = traceEeeSurface(s, scene, *adjacency_, *grid_, chord,
+                                         to ? &crossed : nullptr, &trace.lines);
         if (!to) crossed.clear();
       }
       trace.cells = s.cells;
@@ -438,10 +504,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
     stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
-    for (DiscontinuitySegment& segment : visibleSegments(s)) {
-      ++stats_.visibleSegments;
-      perReceiver[segment.receiver].push_back(std::move(segment));
-    }
+    addVisible(s, surfaces_.size());
     surfaces_.push_back(std::move(s));
   }
   stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing;

@@ -55,6 +55,9 @@ struct DmStats {
   // EEE enumeration's candidates per EV surface and cut polygon (and per light-edge crossing):
   // taken over where the surface's generators and the polygon are unchanged, else examined.
   long long keptCandidateCuts = 0, examinedCandidateCuts = 0;
+  // Vertices whose non-emitter EV surfaces were taken over (the vertex and the polygons in its
+  // region's cells unchanged), and those examined.
+  long long keptNonEmitterVertices = 0, examinedNonEmitterVertices = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -300,6 +303,7 @@ class DiscontinuityMeshEngine {
     bool truncated = false;
     std::vector<DiscontinuitySegment> segments;
     std::vector<PolygonId> crossed;
+    std::vector<std::pair<Vec3, Vec3>> lines;  // the critical lines it followed (traceEeeSurface)
   };
 
   // The computation over posed_ and grid_: everything (change null), or an update after `change`
@@ -331,6 +335,8 @@ class DiscontinuityMeshEngine {
   std::vector<EeeSurface> eeeSurfaces_;
   std::vector<EeeTrace> eeeTraces_;  // one per EEE surface, for the next update
   EeeCandidateMemo eeeCandidates_;   // what EEE enumeration found, for the next update
+  std::vector<std::vector<DiscontinuitySegment>> visible_;  // each planar surface's, ditto
+  std::map<PolygonId, NonEmitterEvMemo> nonEmitter_;        // by light, ditto
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;
 };

@@ -263,8 +263,10 @@ struct PolygonMarks {
 class Tracer {
  public:
   Tracer(EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
-         const UniformGrid& grid, double chordTolerance, std::vector<PolygonId>* crossed)
-      : surface_(surface),
+         const UniformGrid& grid, double chordTolerance, std::vector<PolygonId>* crossed,
+         std::vector<std::pair<Vec3, Vec3>>* lines)
+      : followed_(lines),
+        surface_(surface),
         scene_(scene),
         adjacency_(adjacency),
         grid_(grid),
@@ -344,6 +346,7 @@ class Tracer {
       if (!adjacency_.isSilhouetteFrom(e, line->source)) return result;
     const double reach = 2 * scene_.extent.diagonalLength() / length(line->direction);
     const Vec3 end = line->source + line->direction * (line->farContact + reach);
+    if (followed_) followed_->push_back({line->source, end});
     // Cells in order from the light: stop once the nearest receiver found lies before the next
     // cell's entry (nothing farther can be nearer, and every blocker lies before the contact).
     double nearest = INFINITY;
@@ -426,6 +429,7 @@ class Tracer {
     refine(tm, hm, t1, h1, depth + 1);
   }
 
+  std::vector<std::pair<Vec3, Vec3>>* followed_;  // every line followed, when asked
   EeeSurface& surface_;
   const PosedScene& scene_;
   const EdgeAdjacency& adjacency_;
@@ -783,10 +787,12 @@ std::vector<EdgeId> EeeSurface::occluderEdges() const {
 std::vector<DiscontinuitySegment> traceEeeSurface(EeeSurface& surface, const PosedScene& scene,
                                                   const EdgeAdjacency& adjacency,
                                                   const UniformGrid& grid, double chordTolerance,
-                                                  std::vector<PolygonId>* crossed) {
+                                                  std::vector<PolygonId>* crossed,
+                                                  std::vector<std::pair<Vec3, Vec3>>* lines) {
   surface.cells.clear();
   if (crossed) crossed->clear();
-  return Tracer(surface, scene, adjacency, grid, chordTolerance, crossed).trace();
+  if (lines) lines->clear();
+  return Tracer(surface, scene, adjacency, grid, chordTolerance, crossed, lines).trace();
 }
 
 }  // namespace penumbra

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "penumbra/dm/discontinuity_surface.h"
@@ -122,9 +123,12 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
 // The visible pieces of `surface` on receivers, as polylines split into segments (and fills
 // surface.cells). With `crossed`, a light-edge surface sets it to the polygons its traced lines
 // cross in front of the light, up to their first blocker (for enumerateOccluderEeeSurfaces).
-std::vector<DiscontinuitySegment> traceEeeSurface(EeeSurface& surface, const PosedScene& scene,
-                                                  const EdgeAdjacency& adjacency,
-                                                  const UniformGrid& grid, double chordTolerance,
-                                                  std::vector<PolygonId>* crossed = nullptr);
+// With `lines`, every critical line the tracing followed, from the light to beyond the scene: the
+// result reads only polygons that one of them crosses (and the surface's own edges' polygons), so
+// a later frame in which no moved polygon's old or new bounds meet any of them traces the same.
+std::vector<DiscontinuitySegment> traceEeeSurface(
+    EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
+    const UniformGrid& grid, double chordTolerance, std::vector<PolygonId>* crossed = nullptr,
+    std::vector<std::pair<Vec3, Vec3>>* lines = nullptr);
 
 }  // namespace penumbra

@@ -146,17 +146,62 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
   return surfaces;
 }
 
-std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene& scene,
-                                                                const EdgeAdjacency& adjacency,
-                                                                const UniformGrid& grid,
-                                                                PolygonId light,
-                                                                SurfaceId firstId) {
+std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
+    PolygonId light, SurfaceId firstId, NonEmitterEvMemo* memo, const NonEmitterEvReuse* reuse) {
   std::vector<DiscontinuitySurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
   const double reach = 2 * scene.extent.diagonalLength();
   std::vector<int> seen(adjacency.edges().size(), -1);  // last vertex that examined each edge
+  if (memo) memo->byVertex.assign(adjacency.vertices().size(), {});
+
+  // The surfaces of vertex vi with the edges of polygon `id` not examined before for vi.
+  const auto examine = [&](size_t vi, PolygonId id, std::vector<DiscontinuitySurface>& out) {
+    const SceneVertex& vertex = adjacency.vertices()[vi];
+    const Vec3& v = vertex.position;
+    const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const VertexId ia = corners[k], ib = corners[(k + 1) % corners.size()];
+      if (ia == ib || ia == VertexId(vi) || ib == VertexId(vi)) continue;
+      const EdgeId edgeId = adjacency.edgeBetween(ia, ib);
+      if (edgeId < 0 || seen[edgeId] == int(vi)) continue;
+      seen[edgeId] = int(vi);
+      const SceneEdge& edge = adjacency.edges()[edgeId];
+      if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
+      if (!adjacency.isSilhouetteFrom(edgeId, v)) continue;
+      const auto front = partInFront(adjacency, edge, lightPlane);
+      if (!front) continue;
+      const auto [a, b] = *front;
+      const Vec3 m = cross(b - a, v - a);
+      if (squaredLength(m) == 0) continue;
+      const auto trace = lightTrace(lv, lightPlane.normal, m, v);
+      if (!trace) continue;
+      const auto [t0, t1] = *trace;
+      for (const auto& [w0, w1] : separatingRanges(t0, t1, v, a, b, m)) {
+        DiscontinuitySurface s;
+        s.kind = SurfaceKind::kNonEmitterVertexEdge;
+        s.light = light;
+        s.lightFeature = -1;
+        s.occluderFeature = VertexId(vi);
+        s.secondFeature = edgeId;
+        s.hingePolygons = vertex.polygons;
+        s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+        s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v, {}};
+        s.fan.contacts = {{a, b}};
+        out.push_back(std::move(s));
+      }
+    }
+  };
+  using Entries = std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>;
+  const auto emit = [&](const Entries& entries) {
+    for (const auto& [id, found] : entries)
+      for (DiscontinuitySurface s : found) {
+        s.id = firstId + SurfaceId(surfaces.size());
+        surfaces.push_back(std::move(s));
+      }
+  };
 
   for (size_t vi = 0; vi < adjacency.vertices().size(); ++vi) {
     const SceneVertex& vertex = adjacency.vertices()[vi];
@@ -168,42 +213,38 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene
     Box3 region = lightPolygon.bounds;
     region.extend(v);
     for (const Vec3& c : lv) region.extend(v + normalize(v - c) * reach);
-    for (PolygonId id : grid.polygonsInBox(region)) {
-      if (id == light) continue;
-      const std::vector<VertexId>& corners = adjacency.polygonVertices(id);
-      for (size_t k = 0; k < corners.size(); ++k) {
-        const VertexId ia = corners[k], ib = corners[(k + 1) % corners.size()];
-        if (ia == ib || ia == VertexId(vi) || ib == VertexId(vi)) continue;
-        const EdgeId edgeId = adjacency.edgeBetween(ia, ib);
-        if (edgeId < 0 || seen[edgeId] == int(vi)) continue;
-        seen[edgeId] = int(vi);
-        const SceneEdge& edge = adjacency.edges()[edgeId];
-        if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
-        if (!adjacency.isSilhouetteFrom(edgeId, v)) continue;
-        const auto front = partInFront(adjacency, edge, lightPlane);
-        if (!front) continue;
-        const auto [a, b] = *front;
-        const Vec3 m = cross(b - a, v - a);
-        if (squaredLength(m) == 0) continue;
-        const auto trace = lightTrace(lv, lightPlane.normal, m, v);
-        if (!trace) continue;
-        const auto [t0, t1] = *trace;
-        for (const auto& [w0, w1] : separatingRanges(t0, t1, v, a, b, m)) {
-          DiscontinuitySurface s;
-          s.id = firstId + SurfaceId(surfaces.size());
-          s.kind = SurfaceKind::kNonEmitterVertexEdge;
-          s.light = light;
-          s.lightFeature = -1;
-          s.occluderFeature = VertexId(vi);
-          s.secondFeature = edgeId;
-          s.hingePolygons = vertex.polygons;
-          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
-          s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v, {}};
-          s.fan.contacts = {{a, b}};
-          surfaces.push_back(std::move(s));
+    Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
+    if (reuse && vi < reuse->before.byVertex.size() && reuse->unchangedVertices[vi]) {
+      // The same vertex and region: the polygons that did not move are listed in the same cells
+      // and give what they gave (sharing no edge with a moved one, they examine the same edges
+      // first); a moved polygon listed in the region's cells now is examined again.
+      std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>> moved;
+      for (PolygonId id : reuse->movedPolygons)
+        if (id != light && grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) {
+          moved.push_back({id, {}});
+          examine(vi, id, moved.back().second);
+          if (moved.back().second.empty()) moved.pop_back();
         }
+      size_t k = 0;
+      for (const auto& entry : reuse->before.byVertex[vi]) {
+        if (reuse->isMoved(entry.first)) continue;
+        for (; k < moved.size() && moved[k].first < entry.first; ++k)
+          entries.push_back(std::move(moved[k]));
+        entries.push_back(entry);
       }
+      for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
+      if (memo) ++memo->keptVertices;
+    } else {
+      for (PolygonId id : grid.polygonsInBox(region)) {
+        if (id == light) continue;
+        std::vector<DiscontinuitySurface> found;
+        examine(vi, id, found);
+        if (!found.empty()) entries.push_back({id, std::move(found)});
+      }
+      if (memo) ++memo->examinedVertices;
     }
+    emit(entries);
+    if (memo) memo->byVertex[vi] = std::move(entries);
   }
   return surfaces;
 }

@@ -5,6 +5,7 @@
 // light; and non-emitter EV (occluder vertex × occluder edge) restricted to the critical lines that
 // meet the light. EEE surfaces are enumerated in eee_surfaces.h.
 
+#include <functional>
 #include <vector>
 
 #include "penumbra/dm/discontinuity_surface.h"
@@ -17,13 +18,32 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
                                                              const EdgeAdjacency& adjacency,
                                                              PolygonId light, SurfaceId firstId);
 
+// What the non-emitter enumeration found at each vertex, kept for the next frame: by vertex id,
+// the polygons of its region (ascending) whose edges, first examined there, gave surfaces, with
+// those surfaces (ids unset). A vertex's surfaces are a function of the vertex, the light and the
+// polygons listed in the grid cells of its region.
+struct NonEmitterEvMemo {
+  std::vector<std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>> byVertex;
+  long long keptVertices = 0, examinedVertices = 0;
+};
+// How to read the frame before's memo, offered when every polygon that did not move kept its
+// ids, corners and edges and shares no edge with a moved one: a vertex flagged in
+// `unchangedVertices` keeps what the unmoved polygons gave it, and the moved polygons
+// (`movedPolygons`, ascending; `isMoved`) listed in its region's cells are examined again.
+struct NonEmitterEvReuse {
+  const NonEmitterEvMemo& before;
+  const std::vector<char>& unchangedVertices;
+  std::vector<PolygonId> movedPolygons;
+  std::function<bool(PolygonId)> isMoved;
+};
+
 // Occluder vertex V × occluder edge E (V not on E), both in front of the light, E a silhouette
 // seen from V: the lines through V and E that meet the light, one surface per connected range of
 // them. Candidate edges come from the grid cells around the shaft from the light through V.
-std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(const PosedScene& scene,
-                                                                const EdgeAdjacency& adjacency,
-                                                                const UniformGrid& grid,
-                                                                PolygonId light, SurfaceId firstId);
+std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
+    PolygonId light, SurfaceId firstId, NonEmitterEvMemo* memo = nullptr,
+    const NonEmitterEvReuse* reuse = nullptr);
 
 // For every occluder polygon whose plane cuts the light (light vertices strictly on both sides):
 // from each point T where the plane crosses a light edge, one fan through each edge of the polygon

@@ -36,6 +36,25 @@ struct Box3 {
     return min.x <= b.max.x && b.min.x <= max.x && min.y <= b.max.y && b.min.y <= max.y &&
            min.z <= b.max.z && b.min.z <= max.z;
   }
+  // Does the closed segment ab meet the closed box (slab method; callers who need certainty
+  // under rounding test an expanded box)?
+  bool meetsSegment(const Vec3& a, const Vec3& b) const {
+    if (isEmpty()) return false;
+    double enter = 0, leave = 1;
+    for (int k = 0; k < 3; ++k) {
+      const double origin = a[k], d = b[k] - a[k];
+      if (d == 0) {
+        if (origin < min[k] || origin > max[k]) return false;
+        continue;
+      }
+      double t0 = (min[k] - origin) / d, t1 = (max[k] - origin) / d;
+      if (t0 > t1) std::swap(t0, t1);
+      enter = std::max(enter, t0);
+      leave = std::min(leave, t1);
+      if (enter > leave) return false;
+    }
+    return true;
+  }
   Box3 expanded(double margin) const {
     Box3 r = *this;
     r.min -= Vec3{margin, margin, margin};

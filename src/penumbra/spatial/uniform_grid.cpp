@@ -162,6 +162,27 @@ std::vector<PolygonId> distinctPolygons(const std::vector<std::vector<PolygonId>
 }
 }  // namespace
 
+bool UniformGrid::listsPolygonInBox(PolygonId p, const Box3& polygonBounds, const Box3& box) const {
+  if (box.isEmpty() || polygonBounds.isEmpty() || !box.overlaps(bounds_) ||
+      !polygonBounds.overlaps(bounds_))
+    return false;
+  // The cells overlapping both boxes: the overlap of their coordinate ranges.
+  auto [first, last] = cellRangeOverlapping(box);
+  const auto [polygonFirst, polygonLast] = cellRangeOverlapping(polygonBounds);
+  for (int axis = 0; axis < 3; ++axis) {
+    first[axis] = std::max(first[axis], polygonFirst[axis]);
+    last[axis] = std::min(last[axis], polygonLast[axis]);
+    if (first[axis] > last[axis]) return false;
+  }
+  for (int iz = first[2]; iz <= last[2]; ++iz)
+    for (int iy = first[1]; iy <= last[1]; ++iy)
+      for (int ix = first[0]; ix <= last[0]; ++ix) {
+        const std::vector<PolygonId>& listed = cells_[cellIndex(ix, iy, iz)];
+        if (std::find(listed.begin(), listed.end(), p) != listed.end()) return true;
+      }
+  return false;
+}
+
 std::vector<PolygonId> UniformGrid::polygonsInBox(const Box3& box) const {
   return distinctPolygons(cells_, cellsOverlappingBox(box));
 }

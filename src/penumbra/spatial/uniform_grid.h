@@ -60,6 +60,9 @@ class UniformGrid {
       for (int iy = first[1]; iy <= last[1]; ++iy)
         for (int ix = first[0]; ix <= last[0]; ++ix) visit(cellIndex(ix, iy, iz));
   }
+  // Is polygon p (whose bounds are `polygonBounds`: it is listed only in cells overlapping them)
+  // listed in some cell overlapping `box`, as polygonsInBox(box) would find it?
+  bool listsPolygonInBox(PolygonId p, const Box3& polygonBounds, const Box3& box) const;
   // Cells the closed segment ab passes through, in order from a (3D DDA, Amanatides & Woo 1987);
   // the parts of the segment outside the grid are ignored.
   std::vector<int> cellsAlongSegment(const Vec3& a, const Vec3& b) const;
