@@ -268,8 +268,9 @@ struct ReceiverMesh::Impl {
   // boundary both across and along the line. Faces of a discontinuity mesh can be slivers beside
   // long ones (nearly coincident events, slabs a few ulps wide), and a sample near an edge would
   // label the big face with a neighbour's backprojection. Slab and interval are chosen in
-  // floating point; the point is constructed exactly.
-  std::optional<Point> interiorPoint(Arrangement::Face_const_handle f) const {
+  // floating point; the point too where the exact test finds it strictly inside (else it is
+  // constructed exactly). Returned in world coordinates, as samples are used.
+  std::optional<Vec3> interiorPoint(Arrangement::Face_const_handle f) const {
     // In canonical order, and every sort below stable or total: the point is a function of the
     // face's geometry alone.
     std::vector<Arrangement::Halfedge_const_handle> boundary;
@@ -327,6 +328,17 @@ struct ReceiverMesh::Impl {
     std::stable_sort(candidates.begin(), candidates.end(),
                      [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     // The sample is used as a double 3D point: it must locate, rounded like a query, in f itself.
+    // First the candidates computed in floating point from the rounded vertices (a face wider
+    // than a few ulps holds them, and the exact test says so); an exact construction only where
+    // none is strictly inside.
+    for (size_t c = 0; c < candidates.size() && c < 8; ++c) {
+      const double x = xs[candidates[c].slab].first + 0.5 * width(candidates[c].slab);
+      const std::vector<double> ys = crossings(x);
+      const size_t i = candidates[c].interval;
+      if (ys.size() < i + 2) continue;
+      const Vec3 sample = frame.toWorld(Vec2{x, 0.5 * (ys[i] + ys[i + 1])});
+      if (strictlyInside(f, toPoint(sample))) return sample;
+    }
     std::optional<Point> fallback;
     for (size_t c = 0; c < candidates.size() && c < 8; ++c) {
       const FT x0 = (xs[candidates[c].slab].second->point().x() +
@@ -344,9 +356,10 @@ struct ReceiverMesh::Impl {
       if (ys.size() < i + 2) continue;
       const Point inside(x0, (ys[i] + ys[i + 1]) / 2);
       if (!fallback) fallback = inside;
-      if (strictlyInside(f, toPoint(toWorld(inside)))) return inside;
+      if (strictlyInside(f, toPoint(toWorld(inside)))) return toWorld(inside);
     }
-    return fallback;
+    if (fallback) return toWorld(*fallback);
+    return std::nullopt;
   }
 
   // Indexes the inside faces, each with its sample and area (kept from the last indexing for a
@@ -405,7 +418,7 @@ struct ReceiverMesh::Impl {
         continue;
       }
       const auto inside = interiorPoint(f);
-      const Vec3 sample = inside ? toWorld(*inside) : Vec3{};
+      const Vec3 sample = inside ? *inside : Vec3{};
       const std::vector<Cycle> cycles = inside ? cyclesOf(f) : std::vector<Cycle>{};
       if (!inside || !containsPoint(outline, frame.toLocal(sample))) {
         outside.emplace(std::move(serials), IndexedFace{{}, 0, -1});
