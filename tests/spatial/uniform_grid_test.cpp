@@ -77,8 +77,8 @@ TEST(UniformGrid, SegmentVisitsExactlyTheCellsItCrosses) {
     std::vector<int> sortedVisited = visited;
     std::sort(sortedVisited.begin(), sortedVisited.end());
     // Every sampled cell is visited (the walk may add cells the samples stepped over at corners).
-    EXPECT_TRUE(std::includes(sortedVisited.begin(), sortedVisited.end(), sampled.begin(),
-                              sampled.end()))
+    EXPECT_TRUE(
+        std::includes(sortedVisited.begin(), sortedVisited.end(), sampled.begin(), sampled.end()))
         << "segment " << a << " " << b;
     // Consecutive cells of the walk are face neighbours.
     for (size_t k = 1; k < visited.size(); ++k) {
@@ -103,6 +103,170 @@ TEST(UniformGrid, BoxQueryFindsEveryPolygonInTheBox) {
         EXPECT_TRUE(std::binary_search(found.begin(), found.end(), p.id)) << p.id;
       }
     }
+  }
+}
+
+// Triangles and planar quads (parallelograms) of random sizes and orientations, some of them
+// axis-aligned, one object each.
+void addTrianglesAndQuads(test::SceneBuilder& b, int count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 10), s(-1.5, 1.5);
+  for (int i = 0; i < count; ++i) {
+    const Vec3 c{u(rng), u(rng), u(rng)};
+    const Vec3 e{s(rng), s(rng), s(rng)}, f{s(rng), s(rng), s(rng)};
+    switch (i % 4) {
+      case 0:
+        b.addPolygon("white", {c, c + e, c + f});
+        break;
+      case 1:
+        b.addPolygon("white", {c - e - f, c + e - f, c + e + f, c - e + f});
+        break;
+      case 2:  // axis-aligned quad in a plane z = const
+        b.addPolygon("white", {c, c + Vec3{e.x, 0, 0}, c + Vec3{e.x, f.y, 0}, c + Vec3{0, f.y, 0}});
+        break;
+      default:  // a thin sliver
+        b.addPolygon("white", {c, c + e, c + e * 0.5 + f * 1e-3});
+        break;
+    }
+  }
+}
+
+PosedScene randomTrianglesAndQuads(int count, std::uint64_t seed) {
+  test::SceneBuilder b;
+  b.addMaterial("white", {0.5, 0.5, 0.5});
+  addTrianglesAndQuads(b, count, seed);
+  return b.pose();
+}
+
+// Boxes for grid queries: empty ones, ones outside the grid or touching it from outside, cells and
+// boxes inside one cell, point and flat boxes, boxes whose faces lie on cell boundaries, polygon
+// bounds and boxes touching them, the whole grid and random boxes.
+std::vector<Box3> queryBoxes(const PosedScene& scene, const UniformGrid& grid, std::uint64_t seed) {
+  const auto boxOf = [](const Vec3& p, const Vec3& q) {
+    Box3 box;
+    box.extend(p);
+    box.extend(q);
+    return box;
+  };
+  const Box3 g = grid.bounds();
+  const Vec3 one{1, 1, 1};
+  std::vector<Box3> boxes;
+  boxes.push_back(Box3{});
+  Box3 inverted = g;
+  std::swap(inverted.min.y, inverted.max.y);
+  boxes.push_back(inverted);
+  boxes.push_back(g);
+  boxes.push_back(scene.extent);
+  boxes.push_back(g.expanded(100));
+  boxes.push_back(boxOf(g.max + one, g.max + one * 3));
+  boxes.push_back(boxOf(g.min - one * 3, g.min - one));
+  boxes.push_back(boxOf(g.min - one, g.min));                        // touches the grid's corner
+  boxes.push_back(boxOf(g.min - one, {g.min.x, g.max.y, g.max.z}));  // touches its face x = min
+  boxes.push_back(boxOf(g.max, g.max + one));
+  boxes.push_back(boxOf({g.min.x, g.min.y, g.max.z + 1e-6}, g.max + one));  // just outside
+  for (int cell = 0; cell < grid.resolution().cellCount(); ++cell) {
+    const Box3 c = grid.cellBounds(cell);
+    boxes.push_back(c);  // touches its neighbours too
+    const Vec3 m = c.center(), q = c.diagonal() * 0.25;
+    boxes.push_back(boxOf(m - q, m + q));  // strictly inside one cell
+    boxes.push_back(boxOf(m, m));
+    boxes.push_back(boxOf(c.min, c.min));  // a cell corner
+    boxes.push_back(boxOf({c.min.x, m.y - q.y, m.z - q.z}, {c.min.x, m.y + q.y, m.z + q.z}));
+  }
+  for (const WorldPolygon& p : scene.polygons) {
+    boxes.push_back(p.bounds);
+    boxes.push_back(boxOf(p.bounds.max, p.bounds.max + one));  // touches its bounds' corner
+    boxes.push_back(boxOf(p.bounds.min - one * 0.5, p.bounds.min));
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-2, 12);
+  std::uniform_int_distribution<int> anyCell(0, grid.resolution().cellCount() - 1);
+  for (int i = 0; i < 300; ++i) {
+    boxes.push_back(boxOf({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}));
+    // Faces on cell boundaries.
+    boxes.push_back(boxOf(grid.cellBounds(anyCell(rng)).min, grid.cellBounds(anyCell(rng)).max));
+    // Flat in one axis.
+    Box3 flat = boxOf({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
+    flat.max[i % 3] = flat.min[i % 3];
+    boxes.push_back(flat);
+  }
+  return boxes;
+}
+
+void expectListsPolygonInBoxAgreesWithBoxQuery(const PosedScene& scene, const UniformGrid& grid,
+                                               std::uint64_t seed) {
+  int failures = 0, listed = 0, notListed = 0;
+  for (const Box3& box : queryBoxes(scene, grid, seed)) {
+    const std::vector<PolygonId> found = grid.polygonsInBox(box);
+    for (const WorldPolygon& p : scene.polygons) {
+      const bool expected = std::binary_search(found.begin(), found.end(), p.id);
+      (expected ? listed : notListed) += 1;
+      if (grid.listsPolygonInBox(p.id, p.bounds, box) != expected && ++failures <= 10)
+        ADD_FAILURE() << "polygon " << p.id << " box " << box.min << " " << box.max << " expected "
+                      << expected;
+    }
+  }
+  EXPECT_EQ(failures, 0);
+  // Both answers are common.
+  EXPECT_GT(listed, 1000);
+  EXPECT_GT(notListed, 1000);
+}
+
+TEST(UniformGrid, ListsPolygonInBoxAgreesWithBoxQuery) {
+  const PosedScene scene = randomTrianglesAndQuads(40, 6);
+  expectListsPolygonInBoxAgreesWithBoxQuery(scene, UniformGrid(scene), 7);
+  expectListsPolygonInBoxAgreesWithBoxQuery(scene, UniformGrid(scene, GridResolution{5, 4, 3}), 8);
+  expectListsPolygonInBoxAgreesWithBoxQuery(scene, UniformGrid(scene, GridResolution{1, 1, 1}), 9);
+  expectListsPolygonInBoxAgreesWithBoxQuery(scene, UniformGrid(scene, GridResolution{9, 1, 7}), 10);
+}
+
+TEST(UniformGrid, ListsPolygonInBoxAgreesForPolygonsOnCellBoundaries) {
+  // The same random polygons plus polygons lying on cell faces or touching cell corners, with the
+  // grid's bounds and resolution unchanged (the added polygons are inside the extent), so that the
+  // cell boundaries computed from the first grid are those of the second.
+  const GridResolution resolution{4, 5, 3};
+  const PosedScene plain = randomTrianglesAndQuads(36, 12);
+  const UniformGrid plainGrid(plain, resolution);
+  test::SceneBuilder b;
+  b.addMaterial("white", {0.5, 0.5, 0.5});
+  addTrianglesAndQuads(b, 36, 12);
+  for (int ix = 1; ix < resolution.nx; ++ix)
+    for (int iy = 1; iy < resolution.ny; ++iy)
+      for (int iz = 1; iz < resolution.nz; ++iz) {
+        if ((ix + iy + iz) % 2 != 0) continue;
+        const Box3 c = plainGrid.cellBounds(plainGrid.cellIndex(ix, iy, iz));
+        const Vec3 d = c.diagonal();
+        // The cell's lower z face, exactly.
+        b.addPolygon("white", {c.min,
+                               {c.max.x, c.min.y, c.min.z},
+                               {c.max.x, c.max.y, c.min.z},
+                               {c.min.x, c.max.y, c.min.z}});
+        // A triangle in the neighbouring cell below, touching this cell at its corner only.
+        b.addPolygon("white", {c.min, c.min - Vec3{0.3 * d.x, 0.1 * d.y, 0.2 * d.z},
+                               c.min - Vec3{0.1 * d.x, 0.4 * d.y, 0.3 * d.z}});
+        // A triangle whose bounds end on the cell's upper x face.
+        b.addPolygon("white", {{c.max.x, c.min.y + 0.5 * d.y, c.min.z + 0.5 * d.z},
+                               c.min + d * 0.5,
+                               c.min + Vec3{0.7 * d.x, 0.9 * d.y, 0.2 * d.z}});
+      }
+  const PosedScene scene = b.pose();
+  ASSERT_GT(scene.polygons.size(), plain.polygons.size());
+  const UniformGrid grid(scene, resolution);
+  ASSERT_EQ(grid.bounds().min, plainGrid.bounds().min);
+  ASSERT_EQ(grid.bounds().max, plainGrid.bounds().max);
+  expectListsPolygonInBoxAgreesWithBoxQuery(scene, grid, 13);
+}
+
+TEST(UniformGrid, ListsPolygonInBoxIsFalseForEmptyBoxes) {
+  const PosedScene scene = randomTrianglesAndQuads(24, 11);
+  const UniformGrid grid(scene, GridResolution{4, 4, 4});
+  Box3 flipped = grid.bounds();
+  std::swap(flipped.min.z, flipped.max.z);
+  for (const WorldPolygon& p : scene.polygons) {
+    EXPECT_FALSE(grid.listsPolygonInBox(p.id, p.bounds, Box3{}));
+    EXPECT_FALSE(grid.listsPolygonInBox(p.id, p.bounds, flipped));
+    // Its own bounds always find it: it cuts some cell they overlap.
+    EXPECT_TRUE(grid.listsPolygonInBox(p.id, p.bounds, p.bounds)) << p.id;
   }
 }
 

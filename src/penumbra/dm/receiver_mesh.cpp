@@ -745,23 +745,33 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     m.rememberFaces(around);
   }
   for (auto e : doomed) m.arrangement.remove_edge(e, false, false);
-  const auto lessXY = [](const Point& a, const Point& b) {
-    return CGAL::compare_xy(a, b) == CGAL::SMALLER;
-  };
-  std::set<Point, decltype(lessXY)> ends(lessXY);
+  // The ends of the pieces that stay (and of the outline), for the few touched vertices: compared
+  // exactly only where their coordinate intervals overlap.
+  std::vector<const Point*> ends;
   for (const Piece& p : now)
     if (!added.count(p.surface)) {
-      ends.insert(p.a);
-      ends.insert(p.b);
+      ends.push_back(&p.a);
+      ends.push_back(&p.b);
     }
   for (const auto& curve : m.boundary) {
-    ends.insert(curve.source());
-    ends.insert(curve.target());
+    ends.push_back(&curve.source());
+    ends.push_back(&curve.target());
   }
+  const auto endsAPiece = [&](const Point& q) {
+    const auto& box = q.approx();
+    return std::any_of(ends.begin(), ends.end(), [&](const Point* end) {
+      const auto& other = end->approx();
+      const auto overlap = [](const CGAL::Interval_nt<false>& a,
+                              const CGAL::Interval_nt<false>& b) {
+        return a.inf() <= b.sup() && b.inf() <= a.sup();
+      };
+      return overlap(box.x(), other.x()) && overlap(box.y(), other.y()) && *end == q;
+    });
+  };
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   for (auto v : touched) {
-    if (ends.count(v->point()) || !(v->is_isolated() || v->degree() == 2)) continue;
+    if (!(v->is_isolated() || v->degree() == 2) || endsAPiece(v->point())) continue;
     const void* address = &*v;
     if (CGAL::remove_vertex(m.arrangement, v)) m.vertices.erase(address);
   }
