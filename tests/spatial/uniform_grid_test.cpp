@@ -222,18 +222,18 @@ TEST(UniformGrid, ListsPolygonInBoxAgreesWithBoxQuery) {
 
 TEST(UniformGrid, ListsPolygonInBoxAgreesForPolygonsOnCellBoundaries) {
   // The same random polygons plus polygons lying on cell faces or touching cell corners, with the
-  // grid's bounds and resolution unchanged (the added polygons are inside the extent), so that the
-  // cell boundaries computed from the first grid are those of the second.
+  // grid's extent and resolution unchanged, so that the cell boundaries computed from the first
+  // grid are those of the second.
   const GridResolution resolution{4, 5, 3};
   const PosedScene plain = randomTrianglesAndQuads(36, 12);
   const UniformGrid plainGrid(plain, resolution);
   test::SceneBuilder b;
   b.addMaterial("white", {0.5, 0.5, 0.5});
   addTrianglesAndQuads(b, 36, 12);
-  for (int ix = 1; ix < resolution.nx; ++ix)
-    for (int iy = 1; iy < resolution.ny; ++iy)
+  // Interior cells (below the grid's upper bounds in x and y, which are outside the extent).
+  for (int ix = 1; ix + 1 < resolution.nx; ++ix)
+    for (int iy = 1; iy + 1 < resolution.ny; ++iy)
       for (int iz = 1; iz < resolution.nz; ++iz) {
-        if ((ix + iy + iz) % 2 != 0) continue;
         const Box3 c = plainGrid.cellBounds(plainGrid.cellIndex(ix, iy, iz));
         const Vec3 d = c.diagonal();
         // The cell's lower z face, exactly.
@@ -241,7 +241,7 @@ TEST(UniformGrid, ListsPolygonInBoxAgreesForPolygonsOnCellBoundaries) {
                                {c.max.x, c.min.y, c.min.z},
                                {c.max.x, c.max.y, c.min.z},
                                {c.min.x, c.max.y, c.min.z}});
-        // A triangle in the neighbouring cell below, touching this cell at its corner only.
+        // A triangle below and beside the cell, touching it at its lower corner only.
         b.addPolygon("white", {c.min, c.min - Vec3{0.3 * d.x, 0.1 * d.y, 0.2 * d.z},
                                c.min - Vec3{0.1 * d.x, 0.4 * d.y, 0.3 * d.z}});
         // A triangle whose bounds end on the cell's upper x face.
@@ -249,8 +249,11 @@ TEST(UniformGrid, ListsPolygonInBoxAgreesForPolygonsOnCellBoundaries) {
                                c.min + d * 0.5,
                                c.min + Vec3{0.7 * d.x, 0.9 * d.y, 0.2 * d.z}});
       }
-  const PosedScene scene = b.pose();
+  PosedScene scene = b.pose();
   ASSERT_GT(scene.polygons.size(), plain.polygons.size());
+  // The same extent (it contains the added polygons): the same grid bounds and cell boundaries.
+  ASSERT_TRUE(plain.extent.contains(scene.bounds.min) && plain.extent.contains(scene.bounds.max));
+  scene.extent = plain.extent;
   const UniformGrid grid(scene, resolution);
   ASSERT_EQ(grid.bounds().min, plainGrid.bounds().min);
   ASSERT_EQ(grid.bounds().max, plainGrid.bounds().max);
