@@ -94,15 +94,21 @@ class OutlinePoints {
 
  private:
   std::array<long long, 3> cellOf(const Vec3& p) const {
-    return {(long long)std::floor(p.x / cell_), (long long)std::floor(p.y / cell_),
-            (long long)std::floor(p.z / cell_)};
+    // Clamped before the conversion (out of range it is undefined): a point that far out shares
+    // its cell with others just as far, and the search stays correct, only slower.
+    const auto coordinate = [&](double x) {
+      return (long long)std::clamp(std::floor(x / cell_), -4.0e18, 4.0e18);
+    };
+    return {coordinate(p.x), coordinate(p.y), coordinate(p.z)};
   }
-  static long long key(const std::array<long long, 3>& c) {
-    return (c[0] * 73856093LL) ^ (c[1] * 19349663LL) ^ (c[2] * 83492791LL);
+  // Wrapping (unsigned) arithmetic: cells far from the origin overflow a signed product.
+  static std::uint64_t key(const std::array<long long, 3>& c) {
+    return (std::uint64_t(c[0]) * 73856093u) ^ (std::uint64_t(c[1]) * 19349663u) ^
+           (std::uint64_t(c[2]) * 83492791u);
   }
   double cell_;
   std::vector<std::pair<Vec3, PolygonId>> points_;
-  std::unordered_map<long long, std::vector<int>> cells_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 
 // Is the face's sample point under a polygon in face-to-face contact with the receiver (coplanar,

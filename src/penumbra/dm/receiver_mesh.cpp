@@ -123,6 +123,63 @@ struct ReceiverMesh::Impl {
   Vec2 localOf(Arrangement::Vertex_const_handle v) const { return dataOf(v).local; }
   // The pieces the arrangement holds (snapped, outline left out), for the next update's diff.
   std::vector<Piece> pieces;
+  // Edges carry slots, each naming one surface here: a surface's id is its position in the
+  // frame's list, which shifts from frame to frame, and renaming it rewrites one entry of this
+  // table instead of every edge it lies on. Slot 0 is the outline's.
+  std::vector<SurfaceId> slotSurface{kBoundary};
+  std::unordered_map<SurfaceId, int> slotOf{{kBoundary, 0}};
+  std::vector<int> freeSlots;
+  int slotFor(SurfaceId surface) {
+    const auto [it, added] = slotOf.try_emplace(surface, 0);
+    if (added) {
+      if (freeSlots.empty()) {
+        it->second = int(slotSurface.size());
+        slotSurface.push_back(surface);
+      } else {
+        it->second = freeSlots.back();
+        freeSlots.pop_back();
+        slotSurface[size_t(it->second)] = surface;
+      }
+    }
+    return it->second;
+  }
+  void clearSlots() {
+    slotSurface.assign(1, kBoundary);
+    slotOf = {{kBoundary, 0}};
+    freeSlots.clear();
+  }
+  // Renames surfaces (old id to new, one to one; a permutation is fine) and forgets `dropped`,
+  // whose slots no edge carries any more.
+  void renameSlots(const std::map<SurfaceId, SurfaceId>& renamed,
+                   const std::set<SurfaceId>& dropped) {
+    std::vector<std::pair<int, SurfaceId>> moves;
+    for (const auto& [from, to] : renamed)
+      if (const auto it = slotOf.find(from); it != slotOf.end()) {
+        moves.push_back({it->second, to});
+        slotOf.erase(it);
+      }
+    for (SurfaceId id : dropped)
+      if (const auto it = slotOf.find(id); it != slotOf.end()) {
+        freeSlots.push_back(it->second);
+        slotOf.erase(it);
+      }
+    for (const auto& [slot, to] : moves) {
+      slotSurface[size_t(slot)] = to;
+      slotOf[to] = slot;
+    }
+  }
+  Traits::Curve_2 curveOf(const Piece& p) {
+    return Traits::Curve_2(SegmentTraits::Curve_2(p.a, p.b), slotFor(p.surface));
+  }
+  // An edge's surfaces, sorted: the order in which the arrangement merged overlapping curves'
+  // names is not a function of the segments alone (a mesh an update kept and one built again
+  // from the same segments listed them in different orders), nor are the slots.
+  std::vector<SurfaceId> sortedSurfaces(const Traits::Data_container& data) const {
+    std::vector<SurfaceId> surfaces;
+    for (int slot : data) surfaces.push_back(slotSurface[size_t(slot)]);
+    std::sort(surfaces.begin(), surfaces.end());
+    return surfaces;
+  }
   // The segments as pieces in the receiver's frame, nearly collinear ones snapped (see insert()).
   std::vector<Piece> piecesOf(const std::vector<DiscontinuitySegment>& segments,
                               double snapTolerance) const;
@@ -492,7 +549,7 @@ ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver) : impl_(std::make_uniqu
     const Point a = impl_->toPoint(receiver.vertices[i]);
     const Point b = impl_->toPoint(receiver.vertices[(i + 1) % receiver.vertices.size()]);
     if (a == b) continue;
-    boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), kBoundary));
+    boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), 0));  // the outline's slot
     const Vec3 &p = receiver.vertices[i],
                &q = receiver.vertices[(i + 1) % receiver.vertices.size()];
     impl_->boundarySources.push_back({p.x, p.y, p.z, q.x, q.y, q.z});
@@ -621,19 +678,11 @@ std::vector<Piece> ReceiverMesh::Impl::piecesOf(const std::vector<DiscontinuityS
   return pieces;
 }
 
-namespace {
-
-Traits::Curve_2 curveOf(const Piece& p) {
-  return Traits::Curve_2(SegmentTraits::Curve_2(p.a, p.b), p.surface);
-}
-
-}  // namespace
-
 void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, double snapTolerance) {
   std::vector<Piece> pieces = impl_->piecesOf(segments, snapTolerance);
   std::vector<Traits::Curve_2> curves;
   curves.reserve(pieces.size());
-  for (const Piece& p : pieces) curves.push_back(curveOf(p));
+  for (const Piece& p : pieces) curves.push_back(impl_->curveOf(p));
   // The first insertion builds the arrangement in one sweep (Impl::sweep).
   impl_->detachLocator();
   if (impl_->onlyBoundary && !curves.empty())
@@ -691,7 +740,8 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     m.rememberFaces(m.faceHandles);
     std::vector<Traits::Curve_2> curves;
     curves.reserve(now.size() + m.boundary.size());
-    for (const Piece& p : now) curves.push_back(curveOf(p));
+    m.clearSlots();
+    for (const Piece& p : now) curves.push_back(m.curveOf(p));
     m.sweep(std::move(curves));
     m.pieces = std::move(now);
     return m.indexFaces();
@@ -704,29 +754,31 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   m.detachLocator();
   std::vector<Arrangement::Halfedge_handle> doomed;
   std::vector<Arrangement::Vertex_handle> touched;
+  std::vector<char> removedSlot(m.slotSurface.size(), 0);
+  for (SurfaceId id : removed)
+    if (const auto it = m.slotOf.find(id); it != m.slotOf.end())
+      removedSlot[size_t(it->second)] = 1;
   for (auto e = m.arrangement.edges_begin(); e != m.arrangement.edges_end(); ++e) {
     const auto& data = e->curve().data();
-    bool changed = false, lost = false;
+    bool lost = false;
     Traits::Data_container names;
-    for (SurfaceId id : data) {
-      if (removed.count(id)) {
+    for (int slot : data) {
+      if (removedSlot[size_t(slot)]) {
         lost = true;
         continue;
       }
-      const auto it = renamed.find(id);
-      changed = changed || it != renamed.end();
-      names.insert(it == renamed.end() ? id : it->second);
+      names.insert(slot);
     }
-    if (lost) {
-      touched.push_back(e->source());
-      touched.push_back(e->target());
-    }
+    if (!lost) continue;
+    touched.push_back(e->source());
+    touched.push_back(e->target());
     if (names.size() == 0) {
       doomed.push_back(e);
-    } else if (changed || lost) {
+    } else {
       m.arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
     }
   }
+  m.renameSlots(renamed, removed);
   {
     std::vector<Arrangement::Face_const_handle> around;
     for (auto e : doomed) {
@@ -778,7 +830,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   {
     WalkLocation walk(m.arrangement);
     for (const Piece& p : now)
-      if (added.count(p.surface)) CGAL::insert(m.arrangement, curveOf(p), walk);
+      if (added.count(p.surface)) CGAL::insert(m.arrangement, m.curveOf(p), walk);
   }
   m.pieces = std::move(now);
   return m.indexFaces();
@@ -786,17 +838,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
 
 void ReceiverMesh::renumberSurfaces(const std::map<SurfaceId, SurfaceId>& renamed) {
   if (renamed.empty()) return;
-  for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
-    const auto& data = e->curve().data();
-    bool touched = false;
-    Traits::Data_container names;
-    for (SurfaceId id : data) {
-      const auto it = renamed.find(id);
-      touched = touched || it != renamed.end();
-      names.insert(it == renamed.end() ? id : it->second);
-    }
-    if (touched) impl_->arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
-  }
+  impl_->renameSlots(renamed, {});
   for (Piece& p : impl_->pieces)
     if (const auto it = renamed.find(p.surface); it != renamed.end()) p.surface = it->second;
 }
@@ -844,25 +886,12 @@ std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
   return face->data();
 }
 
-namespace {
-
-// An edge's surfaces, sorted: the order in which the arrangement merged overlapping curves' names
-// is not a function of the segments alone (a mesh an update kept and one built again from the
-// same segments listed them in different orders).
-std::vector<SurfaceId> sortedSurfaces(const Traits::Data_container& data) {
-  std::vector<SurfaceId> surfaces(data.begin(), data.end());
-  std::sort(surfaces.begin(), surfaces.end());
-  return surfaces;
-}
-
-}  // namespace
-
 std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> ReceiverMesh::edges() const {
   std::vector<std::pair<std::pair<Vec3, Vec3>, std::vector<SurfaceId>>> out;
   for (auto e = impl_->arrangement.edges_begin(); e != impl_->arrangement.edges_end(); ++e) {
     Vec3 a = impl_->worldOf(e->source()), b = impl_->worldOf(e->target());
     if (std::tie(b.x, b.y, b.z) < std::tie(a.x, a.y, a.z)) std::swap(a, b);
-    out.push_back({{a, b}, sortedSurfaces(e->curve().data())});
+    out.push_back({{a, b}, impl_->sortedSurfaces(e->curve().data())});
   }
   // Sorted by geometry: the arrangement's edge list is in the order of its history.
   std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) {
@@ -924,7 +953,7 @@ std::vector<FaceCrossing> ReceiverMesh::faceCrossings() const {
     const int left = e->face()->data(), right = e->twin()->face()->data();
     if (left < 0 || right < 0 || left == right) continue;
     crossings.push_back(
-        {std::min(left, right), std::max(left, right), sortedSurfaces(e->curve().data())});
+        {std::min(left, right), std::max(left, right), impl_->sortedSurfaces(e->curve().data())});
   }
   // In the order of the faces (canonical), not of the arrangement's edge list.
   std::sort(crossings.begin(), crossings.end(), [](const FaceCrossing& a, const FaceCrossing& b) {
@@ -948,7 +977,7 @@ std::vector<FaceCrossing> ReceiverMesh::crossingsNear(int face, const Vec3& p,
       const double t = length2 > 0 ? std::clamp(dot(q - a, ab) / length2, 0.0, 1.0) : 0.0;
       const Vec2 off = q - (a + ab * t);
       if (std::sqrt(dot(off, off)) > radius) continue;
-      crossings.push_back({face, other, sortedSurfaces(h->curve().data())});
+      crossings.push_back({face, other, impl_->sortedSurfaces(h->curve().data())});
     }
   std::sort(crossings.begin(), crossings.end(), [](const FaceCrossing& a, const FaceCrossing& b) {
     return std::tie(a.other, a.surfaces) < std::tie(b.other, b.surfaces);
