@@ -797,28 +797,40 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     m.rememberFaces(around);
   }
   for (auto e : doomed) m.arrangement.remove_edge(e, false, false);
-  // The ends of the pieces that stay (and of the outline), for the few touched vertices: compared
-  // exactly only where their coordinate intervals overlap.
-  std::vector<const Point*> ends;
+  // The ends of the pieces that stay (and of the outline), sorted by the lower bound of their
+  // abscissa's interval: a touched vertex is compared exactly only with the ends whose intervals
+  // overlap its own.
+  struct End {
+    double lo, hi;
+    const Point* point;
+  };
+  std::vector<End> ends;
+  const auto addEnd = [&](const Point& p) {
+    const auto& x = p.approx().x();
+    ends.push_back({x.inf(), x.sup(), &p});
+  };
   for (const Piece& p : now)
     if (!added.count(p.surface)) {
-      ends.push_back(&p.a);
-      ends.push_back(&p.b);
+      addEnd(p.a);
+      addEnd(p.b);
     }
   for (const auto& curve : m.boundary) {
-    ends.push_back(&curve.source());
-    ends.push_back(&curve.target());
+    addEnd(curve.source());
+    addEnd(curve.target());
   }
+  std::sort(ends.begin(), ends.end(), [](const End& a, const End& b) { return a.lo < b.lo; });
+  double widest = 0;
+  for (const End& e : ends) widest = std::max(widest, e.hi - e.lo);
   const auto endsAPiece = [&](const Point& q) {
     const auto& box = q.approx();
-    return std::any_of(ends.begin(), ends.end(), [&](const Point* end) {
-      const auto& other = end->approx();
-      const auto overlap = [](const CGAL::Interval_nt<false>& a,
-                              const CGAL::Interval_nt<false>& b) {
-        return a.inf() <= b.sup() && b.inf() <= a.sup();
-      };
-      return overlap(box.x(), other.x()) && overlap(box.y(), other.y()) && *end == q;
-    });
+    const auto first = std::lower_bound(ends.begin(), ends.end(), box.x().inf() - widest,
+                                        [](const End& e, double value) { return e.lo < value; });
+    for (auto it = first; it != ends.end() && it->lo <= box.x().sup(); ++it) {
+      if (it->hi < box.x().inf()) continue;
+      const auto& y = it->point->approx().y();
+      if (y.inf() <= box.y().sup() && box.y().inf() <= y.sup() && *it->point == q) return true;
+    }
+    return false;
   };
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
