@@ -485,9 +485,9 @@ bool generatorsUnchanged(const DiscontinuitySurface& s, const SurfaceCandidates&
 template <class Find, class Emit>
 void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidateMemo* memo,
                        const EeeCandidateReuse* reuse, Find&& find, Emit&& emit) {
-  const SurfaceCandidates* before = nullptr;
+  SurfaceCandidates* before = nullptr;
   if (reuse && index < reuse->previousIndex.size() && reuse->previousIndex[index] >= 0) {
-    const SurfaceCandidates& then = reuse->before.bySurface[size_t(reuse->previousIndex[index])];
+    SurfaceCandidates& then = reuse->before.bySurface[size_t(reuse->previousIndex[index])];
     if (generatorsUnchanged(s, then, reuse->unchanged)) before = &then;
   }
   SurfaceCandidates now{s.kind, s.lightFeature, s.occluderFeature, s.secondFeature, {}};
@@ -501,7 +501,7 @@ void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidate
       while (k < before->cuts.size() && before->cuts[k].polygon < polygon) ++k;
       if (k < before->cuts.size() && before->cuts[k].polygon == polygon &&
           reuse->unchanged.polygons[size_t(polygon)]) {
-        cut.found = before->cuts[k].found;
+        cut.found = std::move(before->cuts[k].found);
         if (memo) ++memo->keptCuts;
       } else {
         find(polygon, cut.found);

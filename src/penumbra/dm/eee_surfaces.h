@@ -82,9 +82,10 @@ struct EeeCandidateMemo {
   std::map<std::array<int, 4>, std::vector<EeeCandidate>> byCrossing;
   long long keptCuts = 0, foundCuts = 0;  // cuts (and crossings) taken over, and examined
 };
-// The frame before's memo and how to read it now.
+// The frame before's memo and how to read it now (its per-surface entries are moved out as they
+// are taken over: each is taken by one surface at most).
 struct EeeCandidateReuse {
-  const EeeCandidateMemo& before;
+  EeeCandidateMemo& before;
   const std::vector<int>& previousIndex;  // per EV surface: its index in the frame before, or -1
   const UnchangedTopology& unchanged;     // polygons, edges and vertices as they were then
 };
