@@ -465,6 +465,19 @@ void forEachEdgeOf(const EdgeAdjacency& adjacency, PolygonId polygon, F&& f) {
   }
 }
 
+// The surface a candidate names (a third edge makes it a three-occluder-edge surface).
+EeeSurface surfaceOf(const EeeCandidate& c, PolygonId light, SurfaceId id) {
+  EeeSurface surface;
+  surface.id = id;
+  surface.light = light;
+  surface.kind = c.c >= 0 ? EeeKind::kOccluderEdges : EeeKind::kLightEdge;
+  surface.lightEdge = c.lightEdge;
+  surface.first = c.a;
+  surface.second = c.b;
+  surface.third = c.c;
+  return surface;
+}
+
 // Are a surface's generator features (its occluder edge, vertex or second edge) what they were?
 bool generatorsUnchanged(const DiscontinuitySurface& s, const SurfaceCandidates& before,
                          const UnchangedTopology& unchanged) {
@@ -581,13 +594,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
       if (coplanar) coplanar->push_back({c.lightEdge, c.a, c.b});
       return;
     }
-    EeeSurface surface;
-    surface.id = firstId + SurfaceId(surfaces.size());
-    surface.light = light;
-    surface.lightEdge = c.lightEdge;
-    surface.first = c.a;
-    surface.second = c.b;
-    surfaces.push_back(std::move(surface));
+    surfaces.push_back(surfaceOf(c, light, firstId + SurfaceId(surfaces.size())));
   };
   // Every range of critical lines ends on a line through a light vertex or an occluder edge's
   // endpoint (validRanges), and such a line lies in the emitter EV fan of that vertex, where the
@@ -693,14 +700,7 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
   std::unordered_set<std::array<EdgeId, 3>, TripleHash> emitted;
   const auto emit = [&](const EeeCandidate& c) {
     if (!emitted.insert({c.a, c.b, c.c}).second) return;
-    EeeSurface surface;
-    surface.id = firstId + SurfaceId(surfaces.size());
-    surface.light = light;
-    surface.kind = EeeKind::kOccluderEdges;
-    surface.first = c.a;
-    surface.second = c.b;
-    surface.third = c.c;
-    surfaces.push_back(std::move(surface));
+    surfaces.push_back(surfaceOf(c, light, firstId + SurfaceId(surfaces.size())));
   };
   // Ranges ending on a line through an occluder vertex v: it lies in the non-emitter EV fan of v
   // and one of the other edges, where the third edge's polygon cuts the fan.
