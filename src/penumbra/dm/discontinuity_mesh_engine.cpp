@@ -668,6 +668,31 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.secondsBackprojections = backprojectionSeconds - stats_.secondsVerification;
   stats_.secondsMeshing = receiverSeconds - backprojectionSeconds;
   tallyReceivers();
+  stats_.updateCacheBytes = updateCacheBytes();
+}
+
+size_t DiscontinuityMeshEngine::updateCacheBytes() const {
+  size_t bytes = 0;
+  for (const SurfaceCandidates& surface : eeeCandidates_.bySurface) {
+    bytes += sizeof(surface) + surface.cuts.capacity() * sizeof(CutCandidates);
+    for (const CutCandidates& cut : surface.cuts)
+      bytes += cut.found.capacity() * sizeof(EeeCandidate);
+  }
+  for (const auto& [key, found] : eeeCandidates_.byCrossing)
+    bytes += sizeof(key) + found.capacity() * sizeof(EeeCandidate);
+  for (const auto& [light, memo] : nonEmitter_)
+    for (const auto& entries : memo.byVertex) {
+      bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
+      for (const auto& [polygon, surfaces] : entries)
+        bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
+    }
+  for (const auto& pieces : visible_)
+    bytes += sizeof(pieces) + pieces.capacity() * sizeof(DiscontinuitySegment);
+  for (const EeeTrace& trace : eeeTraces_)
+    bytes += sizeof(trace) + trace.segments.capacity() * sizeof(DiscontinuitySegment) +
+             trace.lines.capacity() * sizeof(trace.lines[0]) +
+             trace.cells.capacity() * sizeof(int) + trace.crossed.capacity() * sizeof(PolygonId);
+  return bytes;
 }
 
 void DiscontinuityMeshEngine::tallyReceivers() {

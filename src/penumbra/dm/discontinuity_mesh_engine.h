@@ -86,6 +86,10 @@ struct DmStats {
   long long propagatedBackprojections = 0, propagationFallbacks = 0;
   size_t gridBytes = 0, surfaceCellBytes = 0, intersectionBytes = 0, meshBytes = 0,
          backprojectionBytes = 0;
+  // What the update keeps from frame to frame beyond the surfaces' casts: the EEE candidates,
+  // the non-emitter fans by vertex, the planar surfaces' visible pieces, the EEE traces (their
+  // segments and followed lines).
+  size_t updateCacheBytes = 0;
   double secondsSurfaces = 0, secondsCasting = 0, secondsVisibility = 0, secondsMeshing = 0,
          secondsBackprojections = 0, secondsVerification = 0;
 };
@@ -323,6 +327,8 @@ class DiscontinuityMeshEngine {
                      bool sameEee, const SceneChange& change) const;
   // The mesh and face statistics summed over the receivers.
   void tallyReceivers();
+  // Memory of what the update keeps from frame to frame (DmStats::updateCacheBytes).
+  size_t updateCacheBytes() const;
 
   DmOptions options_;
   std::unique_ptr<DynamicScene> ownedScene_;  // only for the convenience builds
