@@ -289,13 +289,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   for (size_t p = 0; staticUnchanged && p < scene.polygons.size(); ++p) {
     if (movedPolygons[p]) continue;
     staticUnchanged = unchanged->polygons[p] != 0;
-    const std::vector<VertexId>& corners = adjacency_->polygonVertices(PolygonId(p));
-    for (size_t k = 0; staticUnchanged && k < corners.size(); ++k) {
-      const EdgeId e = adjacency_->edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
-      if (e < 0) continue;
+    adjacency_->forEachEdgeOf(PolygonId(p), [&](EdgeId e) {
       for (PolygonId q : adjacency_->edges()[e].polygons)
         staticUnchanged = staticUnchanged && !movedPolygons[size_t(q)];
-    }
+    });
   }
   std::vector<PolygonId> movedIds;
   for (size_t p = 0; p < movedPolygons.size(); ++p)
@@ -313,8 +310,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     const std::optional<NonEmitterEvReuse> nonEmitterReuse =
         staticUnchanged && before != previousNonEmitter.end()
             ? std::optional<NonEmitterEvReuse>(
-                  NonEmitterEvReuse{before->second, unchanged->vertices, movedIds,
-                                    [&](PolygonId p) { return movedPolygons[size_t(p)] != 0; }})
+                  NonEmitterEvReuse{before->second, unchanged->vertices, movedIds})
             : std::nullopt;
     NonEmitterEvMemo& memo = nonEmitter_[light];
     surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,

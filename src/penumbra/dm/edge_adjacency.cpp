@@ -127,11 +127,9 @@ UnchangedTopology unchangedTopology(const EdgeAdjacency& before, const EdgeAdjac
   for (size_t p = 0; p < polygons && p < before.polygonCount(); ++p) {
     const std::vector<VertexId>& corners = now.polygonVertices(PolygonId(p));
     if (corners != before.polygonVertices(PolygonId(p))) continue;
-    bool unchanged = true;
-    for (size_t k = 0; k < corners.size() && unchanged; ++k) {
-      const EdgeId e = now.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
-      unchanged = same.vertices[corners[k]] != 0 && (e < 0 || same.edges[e] != 0);
-    }
+    bool unchanged = std::all_of(corners.begin(), corners.end(),
+                                 [&](VertexId v) { return same.vertices[v] != 0; });
+    now.forEachEdgeOf(PolygonId(p), [&](EdgeId e) { unchanged = unchanged && same.edges[e] != 0; });
     same.polygons[p] = unchanged;
   }
   return same;

@@ -39,6 +39,16 @@ class EdgeAdjacency {
   size_t polygonCount() const { return polygonVertices_.size(); }
   // The edge joining two vertices, or -1.
   EdgeId edgeBetween(VertexId a, VertexId b) const;
+  // Calls f(edge) for each edge of polygon p, in corner order; a corner repeated in a row
+  // (welded to one vertex) has no edge to the next and is passed over.
+  template <class F>
+  void forEachEdgeOf(PolygonId p, F&& f) const {
+    const std::vector<VertexId>& corners = polygonVertices_[p];
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const EdgeId e = edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
+      if (e >= 0) f(e);
+    }
+  }
 
   // Is edge e a silhouette seen from point x: do its incident polygons lie on one side of the plane
   // through x and e? Exact. True for boundary and non-manifold edges and when x is on that plane's

@@ -455,16 +455,6 @@ bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
   return std::find(polygons.begin(), polygons.end(), light) != polygons.end();
 }
 
-template <class F>
-void forEachEdgeOf(const EdgeAdjacency& adjacency, PolygonId polygon, F&& f) {
-  const std::vector<VertexId>& corners = adjacency.polygonVertices(polygon);
-  for (size_t k = 0; k < corners.size(); ++k) {
-    // A corner repeated in a row (welded to one vertex) has no edge to the next.
-    const EdgeId e = adjacency.edgeBetween(corners[k], corners[(k + 1) % corners.size()]);
-    if (e >= 0) f(e);
-  }
-}
-
 // The surface a candidate names (a third edge makes it a three-occluder-edge surface).
 EeeSurface surfaceOf(const EeeCandidate& c, PolygonId light, SurfaceId id) {
   EeeSurface surface;
@@ -619,7 +609,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     }
     const auto find = [&](PolygonId polygon, std::vector<EeeCandidate>& found) {
       std::unordered_set<std::uint64_t> here;
-      forEachEdgeOf(adjacency, polygon, [&](EdgeId j) {
+      adjacency.forEachEdgeOf(polygon, [&](EdgeId j) {
         for (auto [l, i] : generators) {
           EdgeId a = i, b = j;
           if (a == b) continue;
@@ -685,7 +675,7 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
   const auto findAll = [&](std::vector<std::array<EdgeId, 2>> pairs, PolygonId polygon,
                            std::vector<EeeCandidate>& found) {
     std::unordered_set<std::array<EdgeId, 3>, TripleHash> here;
-    forEachEdgeOf(adjacency, polygon, [&](EdgeId k) {
+    adjacency.forEachEdgeOf(polygon, [&](EdgeId k) {
       for (auto [i, j] : pairs) {
         if (i < 0 || j < 0 || i == j || j == k || i == k) continue;
         std::array<EdgeId, 3> e{i, j, k};

@@ -218,7 +218,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
       // The same vertex and region: the polygons that did not move are listed in the same cells
       // and give what they gave (sharing no edge with a moved one, they examine the same edges
       // first); a moved polygon listed in the region's cells now is examined again.
-      std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>> moved;
+      Entries moved;
       for (PolygonId id : reuse->movedPolygons)
         if (id != light && grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) {
           moved.push_back({id, {}});
@@ -227,7 +227,9 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
         }
       size_t k = 0;
       for (const auto& entry : reuse->before.byVertex[vi]) {
-        if (reuse->isMoved(entry.first)) continue;
+        if (std::binary_search(reuse->movedPolygons.begin(), reuse->movedPolygons.end(),
+                               entry.first))
+          continue;
         for (; k < moved.size() && moved[k].first < entry.first; ++k)
           entries.push_back(std::move(moved[k]));
         entries.push_back(entry);

@@ -5,7 +5,6 @@
 // light; and non-emitter EV (occluder vertex × occluder edge) restricted to the critical lines that
 // meet the light. EEE surfaces are enumerated in eee_surfaces.h.
 
-#include <functional>
 #include <vector>
 
 #include "penumbra/dm/discontinuity_surface.h"
@@ -29,12 +28,11 @@ struct NonEmitterEvMemo {
 // How to read the frame before's memo, offered when every polygon that did not move kept its
 // ids, corners and edges and shares no edge with a moved one: a vertex flagged in
 // `unchangedVertices` keeps what the unmoved polygons gave it, and the moved polygons
-// (`movedPolygons`, ascending; `isMoved`) listed in its region's cells are examined again.
+// (`movedPolygons`, ascending) listed in its region's cells are examined again.
 struct NonEmitterEvReuse {
   const NonEmitterEvMemo& before;
   const std::vector<char>& unchangedVertices;
-  std::vector<PolygonId> movedPolygons;
-  std::function<bool(PolygonId)> isMoved;
+  const std::vector<PolygonId>& movedPolygons;
 };
 
 // Occluder vertex V × occluder edge E (V not on E), both in front of the light, E a silhouette
