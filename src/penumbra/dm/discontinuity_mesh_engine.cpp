@@ -1,6 +1,7 @@
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 
 #include <algorithm>
+#include <numbers>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -978,20 +979,23 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   // DESIGN.md §5's value is the point's own (a polygon through it hides nothing, the occluder's
   // other faces hide what they hide), which only the point-wise computation follows.
   if (liesOnAnotherPolygon(onPlane, match->polygon)) return atPointFor(Answer::kOnAnotherPolygon);
-  const auto face = it->second.mesh.locate(onPlane);
+  std::optional<int> face = it->second.mesh.locate(onPlane);
   // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
   // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
   if (!face) return atPointFor(Answer::kOutsideFaces);
+  if (it->second.faces[*face].sliver) {
+    // A sliver is made by events a rounding apart: p is then as close to a neighbour, whose
+    // labels give its value to within that distance (irradiance is continuous where no polygon
+    // touches the receiver, and contacts were answered above).
+    face = faceBesideSliver(it->second, *face, onPlane);
+    if (!face) return atPointFor(Answer::kSliverFace);
+  }
   const FaceData& data = it->second.faces[*face];
   if (data.unresolved) return atPointFor(Answer::kUnresolvedFace);
-  if (data.sliver) return atPointFor(Answer::kSliverFace);
-  // Within the polyline tolerance of an approximated EEE conic the face may be the neighbour's:
-  // the backprojection is computed at the point itself there.
   const FaceData* answering = &data;
   if (it->second.eeeSegments.near(onPlane, nearEee())) {
-    // Within the polylines' tolerance of an approximated conic: the face is the one on the
-    // point's side of every EEE surface near it (the exact side test), found among the located
-    // face and those a little off the point across the nearby polylines.
+    // Within the polylines' tolerance of an approximated conic the face may be the neighbour's:
+    // the face is one on the point's side of every EEE surface near it (the exact side test).
     const std::optional<int> decided = faceBySides(it->second, *face, onPlane);
     if (!decided) return atPointFor(Answer::kNearEeePolyline);
     answering = &it->second.faces[*decided];
@@ -1006,19 +1010,24 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   return Query{withoutRoundingBelowZero(e), Answer::kMesh};
 }
 
+std::optional<int> DiscontinuityMeshEngine::faceBesideSliver(const ReceiverData& data, int sliver,
+                                                             const Vec3& p) const {
+  // Within this fraction of the scene of a face, its labels give p's value to about that
+  // relative precision: a thousand times below what the engine answers to (1e-9).
+  const double beside = 1e-12 * posed_->extent.diagonalLength();
+  for (const NearCrossing& c : data.mesh.crossingsNear(sliver, p, beside)) {
+    const FaceData& other = data.faces[size_t(c.crossing.other)];
+    if (!other.sliver && !other.unresolved) return c.crossing.other;
+  }
+  return std::nullopt;
+}
+
 std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data, int located,
                                                         const Vec3& p) const {
-  // The EEE surfaces of the polylines near a point (within their tolerance of it).
-  const auto surfacesNear = [&](const Vec3& x) {
-    std::vector<const EeeSurface*> found;
-    data.eeeSegments.forEachNear(x, nearEee(), [&](size_t index) {
-      const SurfaceId id = data.eeeSurfaceIds[index];
-      const EeeSurface* s = &eeeSurfaces_[size_t(id) - surfaces_.size()];
-      if (std::find(found.begin(), found.end(), s) == found.end()) found.push_back(s);
-      return true;
-    });
-    return found;
-  };
+  // A true conic lies within its polyline's chord tolerance (half of nearEee) of it. A witness is
+  // a point near p farther than nearEee from every polyline, so in no sliver between a polyline
+  // and its conic: there the labels of the face holding it are exact.
+  //
   // Relative side values this small are on the surface: eeeSide rounds at about 1e-12 (its
   // scaling), so the sign of anything ten times larger is certain.
   constexpr double kOnSurface = 1e-11;
@@ -1027,46 +1036,81 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
     if (!(std::abs(side) > kOnSurface)) return std::nullopt;
     return side > 0;
   };
-  // p's side of each surface near it; none where p lies on the surface (within rounding).
-  const std::vector<const EeeSurface*> near = surfacesNear(p);
-  std::vector<std::optional<bool>> sides;
-  for (const EeeSurface* s : near) sides.push_back(sideOf(*s, p));
-  // A face's labels are those at its sample, exact on the sample's side of every true conic that
-  // may cross the face: the conics of the polylines near p and near the sample (a conic stays
-  // within its polyline's tolerance, so one that passes between them is near one or the other).
-  // The face holds p when p lies on the sample's side of each, or on the conic itself: irradiance
-  // is continuous across an EEE event (only a contact makes it jump), so on the event the labels
-  // of either side give its value, off by about five times p's relative distance from it
-  // (measured: 4.6e-9 at a side value of 5e-10), so by 1e-10 at most within kOnSurface.
-  const auto holds = [&](int face) {
-    const Vec3& sample = data.mesh.faces()[face].samplePoint;
+  const auto isEee = [&](SurfaceId id) { return id >= SurfaceId(surfaces_.size()); };
+  // The face of witness w holds p when the walk from p to w crosses no event but EEE polylines,
+  // and p lies on w's side of every conic that may pass between them (within the walk's length
+  // and the chord tolerance of p), or on the conic itself: irradiance is continuous across an EEE
+  // event (only a contact makes it jump), so on the event the labels of either side give its
+  // value, off by about five times p's relative distance from it (measured: 4.6e-9 at a side
+  // value of 5e-10), so by 1e-10 at most within kOnSurface. Sides are compared near p only: a
+  // quadric's zero set reaches beyond its event (where its transversals miss an edge's segment),
+  // so a face's far sample may lie on either side.
+  std::vector<const EeeSurface*> near;
+  std::vector<std::optional<bool>> sides;  // p's, none where p lies on the surface
+  double gathered = 0;                     // the radius `near` was gathered in
+  const auto witnessed = [&](const Vec3& w) -> std::optional<int> {
+    if (data.eeeSegments.near(w, nearEee())) return std::nullopt;
+    const std::optional<MeshWalk> walk = data.mesh.walk(located, p, w);
+    if (!walk || !std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee))
+      return std::nullopt;
+    const FaceData& face = data.faces[size_t(walk->face)];
+    if (face.unresolved || face.sliver) return std::nullopt;
+    const double reach = distance(p, w) + 2 * nearEee();
+    if (reach > gathered) {
+      gathered = 2 * reach;
+      near.clear();
+      data.eeeSegments.forEachNear(p, gathered, [&](size_t index) {
+        const SurfaceId id = data.eeeSurfaceIds[index];
+        const EeeSurface* s = &eeeSurfaces_[size_t(id) - surfaces_.size()];
+        if (std::find(near.begin(), near.end(), s) == near.end()) near.push_back(s);
+        return true;
+      });
+      sides.clear();
+      for (const EeeSurface* s : near) sides.push_back(sideOf(*s, p));
+    }
     for (size_t k = 0; k < near.size(); ++k) {
-      const std::optional<bool> atSample = sideOf(*near[k], sample);
-      if (!atSample || (sides[k] && *sides[k] != *atSample)) return false;
+      const std::optional<bool> atW = sideOf(*near[k], w);
+      if (!atW || (sides[k] && *sides[k] != *atW)) return std::nullopt;
     }
-    for (const EeeSurface* s : surfacesNear(sample)) {
-      if (std::find(near.begin(), near.end(), s) != near.end()) continue;
-      const std::optional<bool> atSample = sideOf(*s, sample), atP = sideOf(*s, p);
-      if (!atSample || (atP && *atP != *atSample)) return false;
-    }
-    return true;
+    return walk->face;
   };
-  if (holds(located)) return located;
-  // The faces reached from the located one across EEE polyline edges passing near p (breadth
-  // first, by face index): the true conics lie within the polylines' tolerance, so p's face is
-  // one of them; crossing any other event would change labels the side tests do not see.
+  // Witnesses first across the edges near p of the faces reached from the located one across EEE
+  // polylines passing near p (breadth first, by face index), just beyond the polylines'
+  // tolerance; then, where p lies in a narrow corner between events (a polyline ending on a
+  // straight event), on rings around p of growing radius.
+  const double offset = 2 * nearEee();
   const auto onlyEee = [&](const std::vector<SurfaceId>& ids) {
-    return !ids.empty() && std::all_of(ids.begin(), ids.end(), [&](SurfaceId id) {
-      return id >= SurfaceId(surfaces_.size());
-    });
+    return !ids.empty() && std::all_of(ids.begin(), ids.end(), isEee);
   };
   std::vector<int> queue{located};
   for (size_t next = 0; next < queue.size(); ++next)
-    for (const FaceCrossing& c : data.mesh.crossingsNear(queue[next], p, nearEee())) {
-      if (!onlyEee(c.surfaces) || std::find(queue.begin(), queue.end(), c.other) != queue.end())
-        continue;
-      if (holds(c.other)) return c.other;
-      queue.push_back(c.other);
+    for (const NearCrossing& c : data.mesh.crossingsNear(queue[next], p, nearEee())) {
+      for (const double across : {-offset, offset})
+        if (const std::optional<int> face = witnessed(c.nearest + c.intoOther * across))
+          return face;
+      const int other = c.crossing.other;
+      if (onlyEee(c.crossing.surfaces) && std::find(queue.begin(), queue.end(), other) == queue.end())
+        queue.push_back(other);
+    }
+  // Witnesses stay this close to p: the farther, the likelier a quadric's zero set beyond its
+  // event passes between them and makes its side a poor guide.
+  const double farthest = 256 * offset;
+  // Toward each of those faces' samples, at growing distances: into the opening of a narrow
+  // corner that holds p.
+  for (const int face : queue) {
+    const Vec3& sample = data.mesh.faces()[size_t(face)].samplePoint;
+    const double toSample = distance(p, sample);
+    for (double radius = offset; radius < std::min(toSample, farthest); radius *= 2)
+      if (const std::optional<int> found = witnessed(p + (sample - p) * (radius / toSample)))
+        return found;
+  }
+  const PlaneFrame& frame = data.mesh.frame();
+  constexpr int kDirections = 32;
+  for (double radius = offset; radius <= farthest; radius *= 2)
+    for (int k = 0; k < kDirections; ++k) {
+      const double angle = 2 * std::numbers::pi * k / kDirections;
+      const Vec3 w = p + frame.u * (radius * std::cos(angle)) + frame.v * (radius * std::sin(angle));
+      if (const std::optional<int> face = witnessed(w)) return face;
     }
   return std::nullopt;
 }

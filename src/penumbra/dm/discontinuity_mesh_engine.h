@@ -253,10 +253,13 @@ class DiscontinuityMeshEngine {
     std::vector<SurfaceId> eeeSurfaceIds;  // the EEE surface of each of eeeInputs
   };
   // The face holding p (near an EEE polyline of the receiver) by the exact side of each EEE
-  // surface near it: the located face or one a little off p across a nearby polyline, whose
-  // sample is on p's side of every such surface; nothing when no face is certain (p on a
-  // surface, or no candidate agrees).
+  // surface near it: the face of a witness point a little off p across a nearby polyline, beyond
+  // every polyline's tolerance, reached from p across EEE polylines only, and on p's side of every
+  // such surface; nothing when no witness is certain.
   std::optional<int> faceBySides(const ReceiverData& data, int located, const Vec3& p) const;
+  // The face (not a sliver, not unresolved) within 1e-12 of the scene of p, in a sliver face,
+  // whose labels answer for it; nothing when the sliver is wider than that at p.
+  std::optional<int> faceBesideSliver(const ReceiverData& data, int sliver, const Vec3& p) const;
   // The points just inside a face's corners where verification compares the labels with the
   // sample's (one per cluster of corners, inside the face, away from EEE polylines).
   std::vector<Vec3> cornerProbes(const ReceiverMesh& mesh, const MeshFace& face,

@@ -974,9 +974,9 @@ std::vector<FaceCrossing> ReceiverMesh::faceCrossings() const {
   return crossings;
 }
 
-std::vector<FaceCrossing> ReceiverMesh::crossingsNear(int face, const Vec3& p,
+std::vector<NearCrossing> ReceiverMesh::crossingsNear(int face, const Vec3& p,
                                                       double radius) const {
-  std::vector<FaceCrossing> crossings;
+  std::vector<NearCrossing> crossings;
   const Arrangement::Face_const_handle f = impl_->faceHandles.at(face);
   const Vec2 q = impl_->frame.toLocal(p);
   for (const Impl::Cycle& cycle : impl_->cyclesOf(f))
@@ -986,15 +986,91 @@ std::vector<FaceCrossing> ReceiverMesh::crossingsNear(int face, const Vec3& p,
       const Vec2 a = impl_->localOf(h->source()), b = impl_->localOf(h->target());
       const Vec2 ab = b - a;
       const double length2 = dot(ab, ab);
-      const double t = length2 > 0 ? std::clamp(dot(q - a, ab) / length2, 0.0, 1.0) : 0.0;
-      const Vec2 off = q - (a + ab * t);
+      if (!(length2 > 0)) continue;
+      const double t = std::clamp(dot(q - a, ab) / length2, 0.0, 1.0);
+      const Vec2 nearest = a + ab * t, off = q - nearest;
       if (std::sqrt(dot(off, off)) > radius) continue;
-      crossings.push_back({face, other, impl_->sortedSurfaces(h->curve().data())});
+      // The face lies left of its half-edges (outer boundaries counter-clockwise, holes
+      // clockwise), so the other face is on the right.
+      const double length = std::sqrt(length2);
+      const Vec2 right{ab.y / length, -ab.x / length};
+      const PlaneFrame& frame = impl_->frame;
+      crossings.push_back({{face, other, impl_->sortedSurfaces(h->curve().data())},
+                           frame.toWorld(nearest),
+                           frame.u * right.x + frame.v * right.y});
     }
-  std::sort(crossings.begin(), crossings.end(), [](const FaceCrossing& a, const FaceCrossing& b) {
-    return std::tie(a.other, a.surfaces) < std::tie(b.other, b.surfaces);
+  std::sort(crossings.begin(), crossings.end(), [](const NearCrossing& a, const NearCrossing& b) {
+    return std::tie(a.crossing.other, a.crossing.surfaces) <
+           std::tie(b.crossing.other, b.crossing.surfaces);
   });
   return crossings;
+}
+
+std::optional<MeshWalk> ReceiverMesh::walk(int face, const Vec3& from, const Vec3& to,
+                                           int maxCrossings) const {
+  const Vec2 a = impl_->frame.toLocal(from), b = impl_->frame.toLocal(to);
+  const Vec2 ab = b - a;
+  const double walkLength2 = dot(ab, ab), walkLength = std::sqrt(walkLength2);
+  if (!(walkLength > 0)) return MeshWalk{face, {}};
+  const auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
+    return (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
+  };
+  MeshWalk result{face, {}};
+  double entered = 0;  // the walk's parameter where it entered the current face
+  Arrangement::Halfedge_const_handle cameThrough;  // the current face's side of that edge
+  for (int step = 0; step <= maxCrossings; ++step) {
+    const Arrangement::Face_const_handle f = impl_->faceHandles.at(size_t(result.face));
+    std::optional<double> exit;
+    Arrangement::Halfedge_const_handle through;
+    for (const Impl::Cycle& cycle : impl_->cyclesOf(f))
+      for (auto h : cycle) {
+        // Not back across the edge just crossed (either side of it: an antenna has the same face
+        // on both).
+        if (step > 0 && (h == cameThrough || h == cameThrough->twin())) continue;
+        const Vec2 s = impl_->localOf(h->source()), t = impl_->localOf(h->target());
+        const Vec2 st = t - s;
+        // Orientations are products of two lengths; this is their rounding, with a margin.
+        const double slack = 1e-12 * (walkLength + std::sqrt(dot(st, st))) * walkLength;
+        // Where the edge's ends lie across the walk's line, and the walk's ends across the edge's.
+        const double sideS = orient(a, b, s), sideT = orient(a, b, t);
+        const double atFrom = orient(s, t, a), atTo = orient(s, t, b);
+        const bool sOn = std::abs(sideS) <= slack, tOn = std::abs(sideT) <= slack;
+        // Ends on the same side of the walk's line: the edge is not crossed.
+        if (!sOn && !tOn && (sideS > 0) == (sideT > 0)) continue;
+        // The parameters along the walk of the edge's ends (for an edge on the walk's line) or of
+        // the crossing; an edge wholly behind where the walk entered the face does not matter.
+        const double ps = dot(s - a, ab) / walkLength2, pt = dot(t - a, ab) / walkLength2;
+        if (sOn || tOn) {
+          // The walk passes within rounding of a vertex, or runs along an edge, where the
+          // rounded coordinates cannot tell which faces it crosses.
+          const double near = std::min(sOn ? ps : 2.0, tOn ? pt : 2.0);
+          if (near >= entered - 1e-9 && near <= 1 + 1e-9) return std::nullopt;
+          if (sOn && tOn) continue;
+        }
+        // The walk ends on the edge: on which side is rounding's choice.
+        if (std::abs(atTo) <= slack) return std::nullopt;
+        // The face lies left of its half-edges: the walk leaves it where it passes to the right.
+        if (!(atTo < 0) || !(atFrom >= atTo)) continue;
+        const double param = atFrom / (atFrom - atTo);
+        // Onward only (from the start, which may lie on an edge, within rounding).
+        if (param < (step == 0 ? -1e-9 : entered) || param > 1) continue;
+        if (!exit || param < *exit) exit = param, through = h;
+      }
+    if (!exit) {
+      std::sort(result.surfaces.begin(), result.surfaces.end());
+      result.surfaces.erase(std::unique(result.surfaces.begin(), result.surfaces.end()),
+                            result.surfaces.end());
+      return result;  // `to` lies in this face
+    }
+    const int other = through->twin()->face()->data();
+    if (other < 0) return std::nullopt;
+    for (SurfaceId id : impl_->sortedSurfaces(through->curve().data()))
+      result.surfaces.push_back(id);
+    result.face = other;
+    entered = *exit;
+    cameThrough = through->twin();
+  }
+  return std::nullopt;
 }
 
 const PlaneFrame& ReceiverMesh::frame() const {

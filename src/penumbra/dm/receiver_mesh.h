@@ -29,6 +29,20 @@ struct FaceCrossing {
   std::vector<SurfaceId> surfaces;
 };
 
+// An edge of a face near a point, as a crossing from the face, with where it passes the point:
+// its point nearest to it and the unit direction across it into the other face (in the plane).
+struct NearCrossing {
+  FaceCrossing crossing;
+  Vec3 nearest, intoOther;
+};
+
+// Where a straight walk across a mesh ends, and the surfaces of the edges it crossed (sorted,
+// without repeats).
+struct MeshWalk {
+  int face = 0;
+  std::vector<SurfaceId> surfaces;
+};
+
 class ReceiverMesh {
  public:
   static constexpr SurfaceId kBoundary = -1;
@@ -95,7 +109,13 @@ class ReceiverMesh {
   std::vector<FaceCrossing> faceCrossings() const;
   // The edges of `face` within `radius` of p that separate it from another inside face, each as
   // a crossing from `face` (in the order of the other face's index).
-  std::vector<FaceCrossing> crossingsNear(int face, const Vec3& p, double radius) const;
+  std::vector<NearCrossing> crossingsNear(int face, const Vec3& p, double radius) const;
+  // Walks the segment from `from` (in or on the boundary of `face`) to `to`, crossing faces in
+  // double precision. Nothing where that cannot tell the faces apart: the segment passes within
+  // rounding of a mesh vertex or along an edge, leaves the receiver, or crosses more than
+  // `maxCrossings` edges.
+  std::optional<MeshWalk> walk(int face, const Vec3& from, const Vec3& to,
+                               int maxCrossings = 64) const;
   // The receiver's plane frame, in which the mesh is built.
   const PlaneFrame& frame() const;
   size_t memoryBytes() const;
