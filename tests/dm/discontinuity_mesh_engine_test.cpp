@@ -297,12 +297,13 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
   std::printf("[ info     ] %d of %d edge midpoints answered by the mesh\n", byMesh, checked);
   EXPECT_GT(checked, 500);
   EXPECT_EQ(failures, 0) << failures << " of " << byMesh;
-  // Measured (session 11): 2,857 of 3,052 (93.6%); 2,496 (81.8%) when a point within 1e-9 of an
-  // EEE surface, or a face whose sample lay near a polyline, left the choice undecided; 754
-  // (24.7%) before the face near an EEE polyline was chosen by the exact side of each nearby EEE
-  // surface. What is left: midpoints in the sliver between a polyline and its true conic, where
-  // no face of the mesh carries their labels (issue 21, item 3; its target is 99%).
-  EXPECT_GE(byMesh, 0.93 * checked);
+  // Measured (session 13): 3,037 of 3,052 (99.5%), since the face near an EEE polyline is found
+  // by witness points beside the point instead of the faces' far samples, and points in
+  // rounding-thin slivers answer from the neighbour beside them; 2,857 (93.6%) before; 754
+  // (24.7%) before the exact side test near EEE polylines. What is left: points in narrow corners
+  // where a polyline meets straight events, with no witness beyond the polylines' tolerance that
+  // a walk reaches across EEE polylines only.
+  EXPECT_GE(byMesh, 0.99 * checked);
 }
 
 // Faces that face verification leaves unresolved (a missing event crosses them; they are

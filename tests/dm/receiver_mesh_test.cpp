@@ -74,6 +74,60 @@ void expectSameMesh(const ReceiverMesh& a, const ReceiverMesh& b) {
 // sets where some segments stay (under new surface ids), some go and some come, including
 // overlapping collinear pieces, pieces ending on others, polylines and nearly collinear pairs
 // that snapping joins.
+// A square cut by a vertical line x = 0.5 (surface 3) and, on its right, a horizontal line y = 0.5
+// (surface 4) from the vertical one to the outline, plus an antenna (surface 5) dangling into the
+// left half: walks name exactly the events they cross.
+TEST(ReceiverMesh, WalksCrossExactlyTheEdgesBetweenTheirEnds) {
+  ReceiverMesh mesh(unitSquareReceiver());
+  mesh.insert({{3, 0, {0.5, 0, 0}, {0.5, 1, 0}, 0, 1},
+               {4, 0, {0.5, 0.5, 0}, {1, 0.5, 0}, 0, 1},
+               {5, 0, {0.1, 0.5, 0}, {0.3, 0.5, 0}, 0, 1}});
+  ASSERT_EQ(mesh.faces().size(), 3u);
+  const int left = *mesh.locate({0.2, 0.2, 0}), lowerRight = *mesh.locate({0.8, 0.2, 0}),
+            upperRight = *mesh.locate({0.8, 0.8, 0});
+  const auto walked = [&](const Vec3& from, const Vec3& to) {
+    return mesh.walk(*mesh.locate(from), from, to);
+  };
+  const auto stays = walked({0.2, 0.2, 0}, {0.4, 0.4, 0});
+  ASSERT_TRUE(stays);
+  EXPECT_EQ(stays->face, left);
+  EXPECT_TRUE(stays->surfaces.empty());
+  const auto across = walked({0.2, 0.3, 0}, {0.8, 0.9, 0});  // crosses x = 0.5 at y 0.6
+  ASSERT_TRUE(across);
+  EXPECT_EQ(across->face, upperRight);
+  EXPECT_EQ(across->surfaces, (std::vector<SurfaceId>{3}));
+  const auto twice = walked({0.2, 0.1, 0}, {0.9, 0.8, 0});  // x = 0.5 at y 0.4, then y = 0.5
+  ASSERT_TRUE(twice);
+  EXPECT_EQ(twice->face, upperRight);
+  EXPECT_EQ(twice->surfaces, (std::vector<SurfaceId>{3, 4}));
+  const auto antenna = walked({0.2, 0.3, 0}, {0.2, 0.7, 0});  // through the dangling piece
+  ASSERT_TRUE(antenna);
+  EXPECT_EQ(antenna->face, left);
+  EXPECT_EQ(antenna->surfaces, (std::vector<SurfaceId>{5}));
+  // From a point on an edge: into the face beside it crosses nothing, across it crosses it.
+  const auto fromEdge = walked({0.7, 0.5, 0}, {0.7, 0.1, 0});
+  ASSERT_TRUE(fromEdge);
+  EXPECT_EQ(fromEdge->face, lowerRight);
+  const auto fromEdgeUp = mesh.walk(lowerRight, {0.7, 0.5, 0}, {0.7, 0.9, 0});
+  ASSERT_TRUE(fromEdgeUp);
+  EXPECT_EQ(fromEdgeUp->face, upperRight);
+  EXPECT_EQ(fromEdgeUp->surfaces, (std::vector<SurfaceId>{4}));
+  // Undecidable in rounded coordinates: through a vertex, along an edge, out of the receiver,
+  // ending on an edge.
+  EXPECT_FALSE(walked({0.2, 0.2, 0}, {0.8, 0.8, 0}));  // through (0.5, 0.5)
+  EXPECT_FALSE(walked({0.6, 0.5, 0}, {0.9, 0.5, 0}));  // along y = 0.5
+  EXPECT_FALSE(walked({0.2, 0.2, 0}, {-0.2, 0.2, 0}));
+  EXPECT_FALSE(walked({0.2, 0.2, 0}, {0.5, 0.2, 0}));
+  // The edges near a point, with the direction into the face across each.
+  const auto near = mesh.crossingsNear(left, {0.45, 0.2, 0}, 0.1);
+  ASSERT_EQ(near.size(), 1u);
+  EXPECT_EQ(near[0].crossing.other, lowerRight);
+  EXPECT_NEAR(near[0].nearest.x, 0.5, 1e-15);
+  EXPECT_NEAR(near[0].nearest.y, 0.2, 1e-15);
+  EXPECT_NEAR(near[0].intoOther.x, 1, 1e-15);
+  EXPECT_NEAR(near[0].intoOther.y, 0, 1e-15);
+}
+
 TEST(ReceiverMesh, UpdateEqualsBuildingAgain) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.2, 1.2);

@@ -1,11 +1,11 @@
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 
 #include <algorithm>
-#include <numbers>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <unordered_map>
 
 #include "penumbra/base/check.h"
@@ -965,8 +965,19 @@ std::optional<Rgb> DiscontinuityMeshEngine::irradiance(const Vec3& p, const Vec3
 
 std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(const Vec3& p,
                                                                              const Vec3& n) const {
-  const auto match = locateReceiver(*posed_, *grid_, p, n);
-  if (!match) return std::nullopt;
+  // A point on the edge shared by coplanar receivers (a triangulated quad's diagonal) lies on
+  // each within rounding, and in the faces of one only: the first whose mesh holds it answers.
+  const std::vector<ReceiverMatch> matches = locateReceivers(*posed_, *grid_, p, n);
+  if (matches.empty()) return std::nullopt;
+  const ReceiverMatch* match = &matches.front();
+  for (const ReceiverMatch& m : matches) {
+    const auto meshed = receivers_.find(m.polygon);
+    if (meshed != receivers_.end() &&
+        meshed->second.mesh.locate(posed_->polygons[m.polygon].plane.project(p))) {
+      match = &m;
+      break;
+    }
+  }
   const auto it = receivers_.find(match->polygon);
   if (it == receivers_.end()) return std::nullopt;
   const WorldPolygon& receiver = posed_->polygons[match->polygon];
@@ -1089,7 +1100,8 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
         if (const std::optional<int> face = witnessed(c.nearest + c.intoOther * across))
           return face;
       const int other = c.crossing.other;
-      if (onlyEee(c.crossing.surfaces) && std::find(queue.begin(), queue.end(), other) == queue.end())
+      if (onlyEee(c.crossing.surfaces) &&
+          std::find(queue.begin(), queue.end(), other) == queue.end())
         queue.push_back(other);
     }
   // Witnesses stay this close to p: the farther, the likelier a quadric's zero set beyond its
@@ -1109,7 +1121,8 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
   for (double radius = offset; radius <= farthest; radius *= 2)
     for (int k = 0; k < kDirections; ++k) {
       const double angle = 2 * std::numbers::pi * k / kDirections;
-      const Vec3 w = p + frame.u * (radius * std::cos(angle)) + frame.v * (radius * std::sin(angle));
+      const Vec3 w =
+          p + frame.u * (radius * std::cos(angle)) + frame.v * (radius * std::sin(angle));
       if (const std::optional<int> face = witnessed(w)) return face;
     }
   return std::nullopt;
@@ -1125,9 +1138,11 @@ bool DiscontinuityMeshEngine::liesOnAnotherPolygon(const Vec3& p, PolygonId rece
     if (id == receiver || !q.bounds.expanded(tolerance).contains(p)) continue;
     if (!(std::abs(q.plane.signedDistance(p)) <= tolerance)) continue;
     // Inside a polygon lying on the receiver (a box's bottom under it) the faces agree with the
-    // point's value; only its outline is a contact line.
-    const bool lyingOn =
-        std::abs(dot(q.plane.normal, posed_->polygons[receiver].plane.normal)) >= 1 - 1e-12;
+    // point's value; only its outline is a contact line. One in the receiver's plane facing the
+    // same way (the other half of a triangulated floor) is the same surface: nothing jumps there.
+    const double facing = dot(q.plane.normal, posed_->polygons[receiver].plane.normal);
+    if (facing >= 1 - 1e-12) continue;
+    const bool lyingOn = facing <= -(1 - 1e-12);
     const PlaneFrame frame = PlaneFrame::fromPlane(q.plane, q.vertices[0]);
     Polygon2 loop;
     loop.reserve(q.vertices.size());

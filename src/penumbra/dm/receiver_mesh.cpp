@@ -64,6 +64,9 @@ struct Piece {
 }  // namespace
 
 struct ReceiverMesh::Impl {
+  // The data of a bounded face with no double strictly inside it (inside faces have their index,
+  // the others -1).
+  static constexpr int kTooThin = -2;
   PolygonId receiver;
   PlaneFrame frame;
   Plane plane;
@@ -468,6 +471,7 @@ struct ReceiverMesh::Impl {
       }
       if (const auto kept = indexed.find(serials); kept != indexed.end()) {
         if (kept->second.index < 0) {
+          f->set_data(kept->second.index);
           outside.emplace(std::move(serials), kept->second);
         } else {
           found.push_back({f, std::move(serials), kept->second});
@@ -477,7 +481,12 @@ struct ReceiverMesh::Impl {
       const auto inside = interiorPoint(f);
       const Vec3 sample = inside ? *inside : Vec3{};
       const std::vector<Cycle> cycles = inside ? cyclesOf(f) : std::vector<Cycle>{};
-      if (!inside || !containsPoint(outline, frame.toLocal(sample))) {
+      if (!inside) {  // too thin for a sample in doubles: located as its neighbours' boundary
+        f->set_data(kTooThin);
+        outside.emplace(std::move(serials), IndexedFace{{}, 0, kTooThin});
+        continue;
+      }
+      if (!containsPoint(outline, frame.toLocal(sample))) {
         outside.emplace(std::move(serials), IndexedFace{{}, 0, -1});
         continue;
       }
@@ -894,6 +903,17 @@ std::optional<int> ReceiverMesh::locate(const Vec3& p) const {
   } else {
     return std::nullopt;
   }
+  if (face->data() == Impl::kTooThin) {
+    // No double lies strictly inside it, so p is within rounding of its boundary: the inside face
+    // of lowest index around it, as for a point on an edge.
+    std::optional<int> lowest;
+    for (const Impl::Cycle& cycle : impl_->cyclesOf(face))
+      for (auto h : cycle) {
+        const int index = h->twin()->face()->data();
+        if (index >= 0 && (!lowest || index < *lowest)) lowest = index;
+      }
+    return lowest;
+  }
   if (face->data() < 0) return std::nullopt;
   return face->data();
 }
@@ -1043,8 +1063,9 @@ std::optional<MeshWalk> ReceiverMesh::walk(int face, const Vec3& from, const Vec
         if (sOn || tOn) {
           // The walk passes within rounding of a vertex, or runs along an edge, where the
           // rounded coordinates cannot tell which faces it crosses.
-          const double near = std::min(sOn ? ps : 2.0, tOn ? pt : 2.0);
-          if (near >= entered - 1e-9 && near <= 1 + 1e-9) return std::nullopt;
+          const double low = std::min(sOn ? ps : pt, tOn ? pt : ps),
+                       high = std::max(sOn ? ps : pt, tOn ? pt : ps);
+          if (high >= entered - 1e-9 && low <= 1 + 1e-9) return std::nullopt;
           if (sOn && tOn) continue;
         }
         // The walk ends on the edge: on which side is rounding's choice.

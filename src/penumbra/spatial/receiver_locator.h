@@ -4,6 +4,7 @@
 // at its edges), with the polygon's front facing the probe normal's side.
 
 #include <optional>
+#include <vector>
 
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -21,5 +22,9 @@ inline constexpr double kReceiverRelativeTolerance = 1e-6;
 // (n · normal > 0), or nothing.
 std::optional<ReceiverMatch> locateReceiver(const PosedScene& scene, const UniformGrid& grid,
                                             const Vec3& p, const Vec3& n);
+// Every such polygon, nearest plane first (locateReceiver's match first): a point on the edge
+// shared by two coplanar polygons (a triangulated quad's diagonal) lies on both.
+std::vector<ReceiverMatch> locateReceivers(const PosedScene& scene, const UniformGrid& grid,
+                                           const Vec3& p, const Vec3& n);
 
 }  // namespace penumbra
