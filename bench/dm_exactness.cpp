@@ -172,8 +172,9 @@ double relativeError(const std::optional<Rgb>& got, const Rgb& expected) {
 
 // The midpoint of every event edge of every receiver mesh (outline and contact lines left out),
 // where events meet and polylines' chords stand farthest from their conics. A midpoint on another
-// polygon (an event along a contact line, or a stub an extended event leaves beyond the outline
-// where a wall meets the floor) is a contact, whose value DESIGN.md §5 defines at the point and no
+// polygon (an event along a contact line, a stub an extended event leaves beyond the outline where
+// a wall meets the floor, or on a triangulated quad's diagonal, where the other triangle lies on
+// the receiver as a card would) is a contact, whose value DESIGN.md §5 defines at the point and no
 // face holds: counted apart (edgeOnContacts), not in the share answered by the mesh.
 void compareEdgeMidpoints(const DiscontinuityMeshEngine& engine, const PosedScene& posed,
                           const ExactReference& reference, Tally& tally) {

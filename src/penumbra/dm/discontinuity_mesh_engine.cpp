@@ -1138,11 +1138,9 @@ bool DiscontinuityMeshEngine::liesOnAnotherPolygon(const Vec3& p, PolygonId rece
     if (id == receiver || !q.bounds.expanded(tolerance).contains(p)) continue;
     if (!(std::abs(q.plane.signedDistance(p)) <= tolerance)) continue;
     // Inside a polygon lying on the receiver (a box's bottom under it) the faces agree with the
-    // point's value; only its outline is a contact line. One in the receiver's plane facing the
-    // same way (the other half of a triangulated floor) is the same surface: nothing jumps there.
-    const double facing = dot(q.plane.normal, posed_->polygons[receiver].plane.normal);
-    if (facing >= 1 - 1e-12) continue;
-    const bool lyingOn = facing <= -(1 - 1e-12);
+    // point's value; only its outline is a contact line.
+    const bool lyingOn =
+        std::abs(dot(q.plane.normal, posed_->polygons[receiver].plane.normal)) >= 1 - 1e-12;
     const PlaneFrame frame = PlaneFrame::fromPlane(q.plane, q.vertices[0]);
     Polygon2 loop;
     loop.reserve(q.vertices.size());
