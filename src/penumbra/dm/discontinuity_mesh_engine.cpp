@@ -1001,24 +1001,37 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
     face = faceBesideSliver(it->second, *face, onPlane);
     if (!face) return atPointFor(Answer::kSliverFace);
   }
-  const FaceData& data = it->second.faces[*face];
-  if (data.unresolved) return atPointFor(Answer::kUnresolvedFace);
-  const FaceData* answering = &data;
+  if (it->second.faces[*face].unresolved) return atPointFor(Answer::kUnresolvedFace);
+  std::vector<int> answering{*face};
   if (it->second.eeeSegments.near(onPlane, nearEee())) {
     // Within the polylines' tolerance of an approximated conic the face may be the neighbour's:
     // the face is one on the point's side of every EEE surface near it (the exact side test).
-    const std::optional<int> decided = faceBySides(it->second, *face, onPlane);
-    if (!decided) return atPointFor(Answer::kNearEeePolyline);
-    answering = &it->second.faces[*decided];
-    if (answering->unresolved) return atPointFor(Answer::kUnresolvedFace);
-    if (answering->sliver) return atPointFor(Answer::kSliverFace);
+    answering = facesBySides(it->second, *face, onPlane);
+    if (answering.empty()) return atPointFor(Answer::kNearEeePolyline);
   }
-  // An unlabelled backprojection has nothing to evaluate at p: it would be computed at p.
-  for (const Backprojection& bp : answering->perLight)
-    if (!bp.isLabelled) return atPointFor(Answer::kUnlabelled);
-  const Rgb e = backprojections_->irradiance(answering->perLight, p, n, match->polygon);
-  if (isDegenerate(e)) return atPointFor(Answer::kDegenerate);
-  return Query{withoutRoundingBelowZero(e), Answer::kMesh};
+  // The faces' labels evaluated at p; several faces (p on an EEE surface within rounding, its
+  // side unknown) answer only where they agree, the true value being one of theirs.
+  std::optional<Rgb> value;
+  for (const int f : answering) {
+    const FaceData& data = it->second.faces[size_t(f)];
+    // An unlabelled backprojection has nothing to evaluate at p: it would be computed at p.
+    for (const Backprojection& bp : data.perLight)
+      if (!bp.isLabelled) return atPointFor(Answer::kUnlabelled);
+    const Rgb e = backprojections_->irradiance(data.perLight, p, n, match->polygon);
+    if (isDegenerate(e)) return atPointFor(Answer::kDegenerate);
+    if (value && !agree(*value, e)) return atPointFor(Answer::kNearEeePolyline);
+    if (!value) value = e;
+  }
+  return Query{withoutRoundingBelowZero(*value), Answer::kMesh};
+}
+
+bool DiscontinuityMeshEngine::agree(const Rgb& a, const Rgb& b) {
+  // A hundred times below what the engine answers to (1e-9 relative), so that either value is
+  // within that of the true one when the true one is among them.
+  const double scale = std::max(a.maxComponent(), b.maxComponent());
+  const double bound = 1e-11 * scale;
+  return std::abs(a.r - b.r) <= bound && std::abs(a.g - b.g) <= bound &&
+         std::abs(a.b - b.b) <= bound;
 }
 
 std::optional<int> DiscontinuityMeshEngine::faceBesideSliver(const ReceiverData& data, int sliver,
@@ -1033,39 +1046,56 @@ std::optional<int> DiscontinuityMeshEngine::faceBesideSliver(const ReceiverData&
   return std::nullopt;
 }
 
-std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data, int located,
-                                                        const Vec3& p) const {
+std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data, int located,
+                                                       const Vec3& p) const {
   // A true conic lies within its polyline's chord tolerance (half of nearEee) of it. A witness is
   // a point near p farther than nearEee from every polyline, so in no sliver between a polyline
   // and its conic: there the labels of the face holding it are exact.
   //
-  // Relative side values this small are on the surface: eeeSide rounds at about 1e-12 (its
-  // scaling), so the sign of anything ten times larger is certain.
-  constexpr double kOnSurface = 1e-11;
+  // eeeSide rounds at about 1e-12 (its scaling), so the sign of a relative side value ten times
+  // larger is certain; below that it is computed exactly. None on the quadric itself.
+  constexpr double kCertainSide = 1e-11;
   const auto sideOf = [&](const EeeSurface& s, const Vec3& x) -> std::optional<bool> {
     const double side = eeeSide(s, *posed_, *adjacency_, x);
-    if (!(std::abs(side) > kOnSurface)) return std::nullopt;
-    return side > 0;
+    if (std::abs(side) > kCertainSide) return side > 0;
+    const std::optional<int> sign = exactEeeSideSign(s, *posed_, *adjacency_, x);
+    if (!sign || *sign == 0) return std::nullopt;
+    return *sign > 0;
   };
   const auto isEee = [&](SurfaceId id) { return id >= SurfaceId(surfaces_.size()); };
   // The face of witness w holds p when the walk from p to w crosses no event but EEE polylines,
   // and p lies on w's side of every conic that may pass between them (within the walk's length
-  // and the chord tolerance of p), or on the conic itself: irradiance is continuous across an EEE
-  // event (only a contact makes it jump), so on the event the labels of either side give its
-  // value, off by about five times p's relative distance from it (measured: 4.6e-9 at a side
-  // value of 5e-10), so by 1e-10 at most within kOnSurface. Sides are compared near p only: a
-  // quadric's zero set reaches beyond its event (where its transversals miss an edge's segment),
-  // so a face's far sample may lie on either side.
+  // and the chord tolerance of p). Sides are compared near p only: a quadric's zero set reaches
+  // beyond its event (where its transversals miss an edge's segment), so a face's far sample may
+  // lie on either side. Where p lies on a surface within rounding, its side is unknown: faces are
+  // gathered until witnesses on both sides of each such surface are found, and the caller answers
+  // only when their labels agree at p (the value is one of theirs).
+  // How far off p a walk starts: a thousandth of what the engine answers to (1e-9), relative to
+  // the scene; irradiance is continuous (contacts were answered before), so the labels that hold
+  // there give p's value to about that.
+  const double offStart = 1e-12 * posed_->extent.diagonalLength();
   std::vector<const EeeSurface*> near;
   std::vector<std::optional<bool>> sides;  // p's, none where p lies on the surface
   double gathered = 0;                     // the radius `near` was gathered in
-  const auto witnessed = [&](const Vec3& w) -> std::optional<int> {
-    if (data.eeeSegments.near(w, nearEee())) return std::nullopt;
-    const std::optional<MeshWalk> walk = data.mesh.walk(located, p, w);
-    if (!walk || !std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee))
-      return std::nullopt;
+  std::vector<int> faces;                  // those witnesses found, in the order found
+  std::map<const EeeSurface*, int> seen;   // sides (1: negative, 2: positive) of p's undecided
+  const auto complete = [&] {
+    if (faces.empty()) return false;
+    for (size_t k = 0; k < near.size(); ++k)
+      if (!sides[k] && seen[near[k]] != 3) return false;
+    return true;
+  };
+  const auto witnessed = [&](const Vec3& w) {
+    if (data.eeeSegments.near(w, nearEee())) return false;
+    // The walk starts a little off p towards w, clear of the vertices p may lie within rounding
+    // of (where events meet, often several a few ulps apart).
+    const Vec3 start = p + (w - p) * (offStart / distance(p, w));
+    const std::optional<int> startFace = data.mesh.locate(start);
+    if (!startFace) return false;
+    const std::optional<MeshWalk> walk = data.mesh.walk(*startFace, start, w);
+    if (!walk || !std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee)) return false;
     const FaceData& face = data.faces[size_t(walk->face)];
-    if (face.unresolved || face.sliver) return std::nullopt;
+    if (face.unresolved || face.sliver) return false;
     const double reach = distance(p, w) + 2 * nearEee();
     if (reach > gathered) {
       gathered = 2 * reach;
@@ -1079,11 +1109,16 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
       sides.clear();
       for (const EeeSurface* s : near) sides.push_back(sideOf(*s, p));
     }
+    std::vector<std::optional<bool>> atW;
     for (size_t k = 0; k < near.size(); ++k) {
-      const std::optional<bool> atW = sideOf(*near[k], w);
-      if (!atW || (sides[k] && *sides[k] != *atW)) return std::nullopt;
+      atW.push_back(sideOf(*near[k], w));
+      if (!atW[k] || (sides[k] && *sides[k] != *atW[k])) return false;
     }
-    return walk->face;
+    for (size_t k = 0; k < near.size(); ++k)
+      if (!sides[k]) seen[near[k]] |= *atW[k] ? 2 : 1;
+    if (std::find(faces.begin(), faces.end(), walk->face) == faces.end())
+      faces.push_back(walk->face);
+    return complete();
   };
   // Witnesses first across the edges near p of the faces reached from the located one across EEE
   // polylines passing near p (breadth first, by face index), just beyond the polylines'
@@ -1097,8 +1132,7 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
   for (size_t next = 0; next < queue.size(); ++next)
     for (const NearCrossing& c : data.mesh.crossingsNear(queue[next], p, nearEee())) {
       for (const double across : {-offset, offset})
-        if (const std::optional<int> face = witnessed(c.nearest + c.intoOther * across))
-          return face;
+        if (witnessed(c.nearest + c.intoOther * across)) return faces;
       const int other = c.crossing.other;
       if (onlyEee(c.crossing.surfaces) &&
           std::find(queue.begin(), queue.end(), other) == queue.end())
@@ -1113,8 +1147,7 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
     const Vec3& sample = data.mesh.faces()[size_t(face)].samplePoint;
     const double toSample = distance(p, sample);
     for (double radius = offset; radius < std::min(toSample, farthest); radius *= 2)
-      if (const std::optional<int> found = witnessed(p + (sample - p) * (radius / toSample)))
-        return found;
+      if (witnessed(p + (sample - p) * (radius / toSample))) return faces;
   }
   const PlaneFrame& frame = data.mesh.frame();
   constexpr int kDirections = 32;
@@ -1123,9 +1156,9 @@ std::optional<int> DiscontinuityMeshEngine::faceBySides(const ReceiverData& data
       const double angle = 2 * std::numbers::pi * k / kDirections;
       const Vec3 w =
           p + frame.u * (radius * std::cos(angle)) + frame.v * (radius * std::sin(angle));
-      if (const std::optional<int> face = witnessed(w)) return face;
+      if (witnessed(w)) return faces;
     }
-  return std::nullopt;
+  return {};
 }
 
 bool DiscontinuityMeshEngine::liesOnAnotherPolygon(const Vec3& p, PolygonId receiver) const {

@@ -253,10 +253,13 @@ class DiscontinuityMeshEngine {
     std::vector<SurfaceId> eeeSurfaceIds;  // the EEE surface of each of eeeInputs
   };
   // The face holding p (near an EEE polyline of the receiver) by the exact side of each EEE
-  // surface near it: the face of a witness point a little off p across a nearby polyline, beyond
-  // every polyline's tolerance, reached from p across EEE polylines only, and on p's side of every
-  // such surface; nothing when no witness is certain.
-  std::optional<int> faceBySides(const ReceiverData& data, int located, const Vec3& p) const;
+  // surface near it: the face of a witness point a little off p, beyond every polyline's
+  // tolerance, reached from p across EEE polylines only, and on p's side of every such surface;
+  // where p lies on a surface within rounding, the faces of witnesses on both sides of it.
+  // Nothing when no witness is certain.
+  std::vector<int> facesBySides(const ReceiverData& data, int located, const Vec3& p) const;
+  // Do two values agree to 1e-11 of the larger (faces answering together)?
+  static bool agree(const Rgb& a, const Rgb& b);
   // The face (not a sliver, not unresolved) within 1e-12 of the scene of p, in a sliver face,
   // whose labels answer for it; nothing when the sliver is wider than that at p.
   std::optional<int> faceBesideSliver(const ReceiverData& data, int sliver, const Vec3& p) const;

@@ -1,5 +1,6 @@
 #include "penumbra/dm/eee_surfaces.h"
 
+#include <gmpxx.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -767,6 +768,66 @@ double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdj
   // Relative to the product of the lengths and the scene-sized moments, so 1e-12 is rounding.
   const double magnitude = length(d) * length(d3) * (length(q1) + length(a3) + length(q2 - a3));
   return magnitude > 0 ? side / magnitude : std::nan("");
+}
+
+namespace {
+
+struct ExactVec3 {
+  mpq_class x, y, z;
+  explicit ExactVec3(const Vec3& v) : x(v.x), y(v.y), z(v.z) {}
+  ExactVec3(mpq_class x_, mpq_class y_, mpq_class z_)
+      : x(std::move(x_)), y(std::move(y_)), z(std::move(z_)) {}
+};
+ExactVec3 operator-(const ExactVec3& a, const ExactVec3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+ExactVec3 operator+(const ExactVec3& a, const ExactVec3& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+ExactVec3 operator*(const ExactVec3& a, const mpq_class& s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+mpq_class dot(const ExactVec3& a, const ExactVec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+ExactVec3 cross(const ExactVec3& a, const ExactVec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+}  // namespace
+
+std::optional<int> exactEeeSideSign(const EeeSurface& surface, const PosedScene& scene,
+                                    const EdgeAdjacency& adjacency, const Vec3& p) {
+  // eeeSide's construction step by step, in rationals (every quantity exact).
+  std::vector<std::pair<ExactVec3, ExactVec3>> lines;  // a point and a direction of each
+  if (surface.kind == EeeKind::kLightEdge) {
+    const std::vector<Vec3>& v = scene.polygons[surface.light].vertices;
+    const ExactVec3 a(v[surface.lightEdge]), b(v[(surface.lightEdge + 1) % v.size()]);
+    lines.emplace_back(a, b - a);
+  }
+  for (EdgeId e : surface.occluderEdges()) {
+    const SceneEdge& edge = adjacency.edges()[e];
+    const ExactVec3 a(adjacency.position(edge.a)), b(adjacency.position(edge.b));
+    lines.emplace_back(a, b - a);
+  }
+  const ExactVec3 x(p);
+  const auto& [a1, d1] = lines[0];
+  const auto& [a2, d2] = lines[1];
+  const auto& [a3, d3] = lines[2];
+  const ExactVec3 planeNormal = cross(d1, a1 - x);
+  const mpq_class across = dot(planeNormal, d2);
+  if (sgn(across) == 0) return std::nullopt;
+  const mpq_class along = dot(planeNormal, x - a2) / across;
+  const ExactVec3 q2 = a2 + d2 * along;
+  const ExactVec3 toQ2 = q2 - x;
+  const ExactVec3 c = cross(toQ2, d1);
+  const mpq_class c2 = dot(c, c);
+  if (sgn(c2) == 0) return std::nullopt;
+  const mpq_class t = -dot(cross(x - a1, d1), c) / c2;
+  const ExactVec3 q1 = x + toQ2 * t;
+  const ExactVec3 d = q2 - q1;
+  const mpq_class side = dot(d, cross(a3, d3)) + dot(d3, cross(q1, d));
+  return sgn(side);
 }
 
 std::vector<EdgeId> EeeSurface::occluderEdges() const {
