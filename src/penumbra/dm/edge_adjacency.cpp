@@ -30,6 +30,19 @@ bool arePolygonsCoplanar(const Polygon3& p, const Polygon3& q) {
   return false;
 }
 
+// The direction, in p's plane and across edge e, towards p's interior beside e: a polygon's
+// interior lies left of its edges as its corners run counter-clockwise around its normal.
+Vec3 interiorSide(const WorldPolygon& p, const std::vector<VertexId>& corners, const SceneEdge& e) {
+  for (size_t k = 0; k < corners.size(); ++k) {
+    const VertexId from = corners[k], to = corners[(k + 1) % corners.size()];
+    if ((from == e.a && to == e.b) || (from == e.b && to == e.a)) {
+      const Vec3 direction = p.vertices[(k + 1) % corners.size()] - p.vertices[k];
+      return cross(p.plane.normal, direction);
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 EdgeAdjacency::EdgeAdjacency(const PosedScene& scene) : scene_(scene) {
@@ -59,9 +72,15 @@ EdgeAdjacency::EdgeAdjacency(const PosedScene& scene) : scene_(scene) {
     }
   }
   for (SceneEdge& e : edges_) {
-    if (e.polygons.size() == 2)
-      e.canBeSilhouette = !arePolygonsCoplanar(scene.polygons[e.polygons[0]].vertices,
-                                               scene.polygons[e.polygons[1]].vertices);
+    if (e.polygons.size() != 2) continue;
+    const WorldPolygon& p = scene.polygons[e.polygons[0]];
+    const WorldPolygon& q = scene.polygons[e.polygons[1]];
+    // Coplanar polygons on either side of the edge make a flat region there; on the same side
+    // (coincident copies of one polygon, a double-sided panel's two faces) the edge is a knife
+    // edge that light grazes like any outline.
+    e.canBeSilhouette = !arePolygonsCoplanar(p.vertices, q.vertices) ||
+                        dot(interiorSide(p, polygonVertices_[p.id], e),
+                            interiorSide(q, polygonVertices_[q.id], e)) > 0;
   }
 }
 
