@@ -970,10 +970,12 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   const std::vector<ReceiverMatch> matches = locateReceivers(*posed_, *grid_, p, n);
   if (matches.empty()) return std::nullopt;
   const ReceiverMatch* match = &matches.front();
+  std::optional<int> face;
   for (const ReceiverMatch& m : matches) {
     const auto meshed = receivers_.find(m.polygon);
-    if (meshed != receivers_.end() &&
-        meshed->second.mesh.locate(posed_->polygons[m.polygon].plane.project(p))) {
+    if (meshed == receivers_.end()) continue;
+    face = meshed->second.mesh.locate(posed_->polygons[m.polygon].plane.project(p));
+    if (face) {
       match = &m;
       break;
     }
@@ -990,7 +992,6 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   // DESIGN.md §5's value is the point's own (a polygon through it hides nothing, the occluder's
   // other faces hide what they hide), which only the point-wise computation follows.
   if (liesOnAnotherPolygon(onPlane, match->polygon)) return atPointFor(Answer::kOnAnotherPolygon);
-  std::optional<int> face = it->second.mesh.locate(onPlane);
   // The locator accepts points within its tolerance outside the polygon (a point on the diagonal
   // of a triangulated quad may match the triangle it is an ulp outside of): no face holds them.
   if (!face) return atPointFor(Answer::kOutsideFaces);
