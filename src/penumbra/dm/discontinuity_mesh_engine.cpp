@@ -1071,9 +1071,9 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
   // lie on either side. Where p lies on a surface within rounding, its side is unknown: faces are
   // gathered until witnesses on both sides of each such surface are found, and the caller answers
   // only when their labels agree at p (the value is one of theirs).
-  // How far off p a walk starts: a thousandth of what the engine answers to (1e-9), relative to
-  // the scene; irradiance is continuous (contacts were answered before), so the labels that hold
-  // there give p's value to about that.
+  // How far off p a walk starts where it cannot start at p: a thousandth of what the engine
+  // answers to (1e-9), relative to the scene; irradiance is continuous (contacts were answered
+  // before), so the labels that hold there give p's value to about that.
   const double offStart = 1e-12 * posed_->extent.diagonalLength();
   std::vector<const EeeSurface*> near;
   std::vector<std::optional<bool>> sides;  // p's, none where p lies on the surface
@@ -1088,12 +1088,15 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
   };
   const auto witnessed = [&](const Vec3& w) {
     if (data.eeeSegments.near(w, nearEee())) return false;
-    // The walk starts a little off p towards w, clear of the vertices p may lie within rounding
-    // of (where events meet, often several a few ulps apart).
-    const Vec3 start = p + (w - p) * (offStart / distance(p, w));
-    const std::optional<int> startFace = data.mesh.locate(start);
-    if (!startFace) return false;
-    const std::optional<MeshWalk> walk = data.mesh.walk(*startFace, start, w);
+    // From p; where p lies within rounding of a vertex (where events meet, often several a few
+    // ulps apart) the walk cannot start there, and starts a little off p towards w instead.
+    std::optional<MeshWalk> walk = data.mesh.walk(located, p, w);
+    if (!walk) {
+      const Vec3 start = p + (w - p) * (offStart / distance(p, w));
+      const std::optional<int> startFace = data.mesh.locate(start);
+      if (!startFace) return false;
+      walk = data.mesh.walk(*startFace, start, w);
+    }
     if (!walk || !std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee)) return false;
     const FaceData& face = data.faces[size_t(walk->face)];
     if (face.unresolved || face.sliver) return false;

@@ -772,62 +772,92 @@ double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdj
 
 namespace {
 
-struct ExactVec3 {
-  mpq_class x, y, z;
-  explicit ExactVec3(const Vec3& v) : x(v.x), y(v.y), z(v.z) {}
-  ExactVec3(mpq_class x_, mpq_class y_, mpq_class z_)
-      : x(std::move(x_)), y(std::move(y_)), z(std::move(z_)) {}
+// Integer vectors: the doubles of one evaluation scaled by one power of two (exact), so that the
+// sign of a homogeneous polynomial in them is the sign for the doubles themselves.
+struct IntegerVec3 {
+  mpz_class x, y, z;
 };
-ExactVec3 operator-(const ExactVec3& a, const ExactVec3& b) {
+IntegerVec3 operator-(const IntegerVec3& a, const IntegerVec3& b) {
   return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
-ExactVec3 operator+(const ExactVec3& a, const ExactVec3& b) {
+IntegerVec3 operator+(const IntegerVec3& a, const IntegerVec3& b) {
   return {a.x + b.x, a.y + b.y, a.z + b.z};
 }
-ExactVec3 operator*(const ExactVec3& a, const mpq_class& s) {
+IntegerVec3 operator*(const IntegerVec3& a, const mpz_class& s) {
   return {a.x * s, a.y * s, a.z * s};
 }
-mpq_class dot(const ExactVec3& a, const ExactVec3& b) {
+mpz_class dot(const IntegerVec3& a, const IntegerVec3& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
-ExactVec3 cross(const ExactVec3& a, const ExactVec3& b) {
+IntegerVec3 cross(const IntegerVec3& a, const IntegerVec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// The doubles as integers times 2^shift with one shift for all (the least exponent among them).
+std::vector<IntegerVec3> scaledToIntegers(const std::vector<Vec3>& points) {
+  int least = std::numeric_limits<int>::max();
+  const auto mantissa = [](double v, int& exponent) {
+    // v = m 2^exponent with m an integer of at most 53 bits.
+    const double fraction = std::frexp(v, &exponent);
+    exponent -= 53;
+    return std::ldexp(fraction, 53);
+  };
+  for (const Vec3& p : points)
+    for (const double v : {p.x, p.y, p.z}) {
+      if (v == 0) continue;
+      int exponent = 0;
+      mantissa(v, exponent);
+      least = std::min(least, exponent);
+    }
+  const auto integer = [&](double v) {
+    if (v == 0) return mpz_class(0);
+    int exponent = 0;
+    mpz_class z(mantissa(v, exponent));
+    mpz_mul_2exp(z.get_mpz_t(), z.get_mpz_t(), mp_bitcnt_t(exponent - least));
+    return z;
+  };
+  std::vector<IntegerVec3> out;
+  out.reserve(points.size());
+  for (const Vec3& p : points) out.push_back({integer(p.x), integer(p.y), integer(p.z)});
+  return out;
 }
 
 }  // namespace
 
 std::optional<int> exactEeeSideSign(const EeeSurface& surface, const PosedScene& scene,
                                     const EdgeAdjacency& adjacency, const Vec3& p) {
-  // eeeSide's construction step by step, in rationals (every quantity exact).
-  std::vector<std::pair<ExactVec3, ExactVec3>> lines;  // a point and a direction of each
+  // The three lines' points and directions, and p.
+  std::vector<Vec3> points;
   if (surface.kind == EeeKind::kLightEdge) {
     const std::vector<Vec3>& v = scene.polygons[surface.light].vertices;
-    const ExactVec3 a(v[surface.lightEdge]), b(v[(surface.lightEdge + 1) % v.size()]);
-    lines.emplace_back(a, b - a);
+    points.push_back(v[surface.lightEdge]);
+    points.push_back(v[(surface.lightEdge + 1) % v.size()]);
   }
   for (EdgeId e : surface.occluderEdges()) {
     const SceneEdge& edge = adjacency.edges()[e];
-    const ExactVec3 a(adjacency.position(edge.a)), b(adjacency.position(edge.b));
-    lines.emplace_back(a, b - a);
+    points.push_back(adjacency.position(edge.a));
+    points.push_back(adjacency.position(edge.b));
   }
-  const ExactVec3 x(p);
-  const auto& [a1, d1] = lines[0];
-  const auto& [a2, d2] = lines[1];
-  const auto& [a3, d3] = lines[2];
-  const ExactVec3 planeNormal = cross(d1, a1 - x);
-  const mpq_class across = dot(planeNormal, d2);
+  points.push_back(p);
+  const std::vector<IntegerVec3> z = scaledToIntegers(points);
+  const IntegerVec3 &a1 = z[0], &a2 = z[2], &a3 = z[4], &x = z[6];
+  const IntegerVec3 d1 = z[1] - z[0], d2 = z[3] - z[2], d3 = z[5] - z[4];
+  // eeeSide's construction without its divisions (each quantity times a known factor):
+  // A = N . d2 with N = d1 x (a1 - x); A q2 = Q2; q2 - x = T / A; c = C / A; A² c2 = W = |C|²;
+  // W q1 = Q1; A W (q2 - q1) = D; and A W² side = W (D . m3) + d3 . (Q1 x D), every term of
+  // degree 26 in the coordinates (so one power-of-two scale of them all keeps the sign).
+  const IntegerVec3 normal = cross(d1, a1 - x);
+  const mpz_class across = dot(normal, d2);
   if (sgn(across) == 0) return std::nullopt;
-  const mpq_class along = dot(planeNormal, x - a2) / across;
-  const ExactVec3 q2 = a2 + d2 * along;
-  const ExactVec3 toQ2 = q2 - x;
-  const ExactVec3 c = cross(toQ2, d1);
-  const mpq_class c2 = dot(c, c);
-  if (sgn(c2) == 0) return std::nullopt;
-  const mpq_class t = -dot(cross(x - a1, d1), c) / c2;
-  const ExactVec3 q1 = x + toQ2 * t;
-  const ExactVec3 d = q2 - q1;
-  const mpq_class side = dot(d, cross(a3, d3)) + dot(d3, cross(q1, d));
-  return sgn(side);
+  const IntegerVec3 q2 = a2 * across + d2 * dot(normal, x - a2);
+  const IntegerVec3 toQ2 = q2 - x * across;
+  const IntegerVec3 c = cross(toQ2, d1);
+  const mpz_class w = dot(c, c);
+  if (sgn(w) == 0) return std::nullopt;
+  const IntegerVec3 q1 = x * w - toQ2 * dot(cross(x - a1, d1), c);
+  const IntegerVec3 d = q2 * w - q1 * across;
+  const mpz_class side = w * dot(d, cross(a3, d3)) + dot(d3, cross(q1, d));
+  return sgn(across) * sgn(side);
 }
 
 std::vector<EdgeId> EeeSurface::occluderEdges() const {
