@@ -1089,15 +1089,19 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
   const auto witnessed = [&](const Vec3& w) {
     if (data.eeeSegments.near(w, nearEee())) return false;
     // From p; where p lies within rounding of a vertex (where events meet, often several a few
-    // ulps apart) the walk cannot start there, and starts a little off p towards w instead.
+    // ulps apart) the walk cannot start there, or leaves it across the events meeting there, and
+    // starts a little off p towards w instead.
     std::optional<MeshWalk> walk = data.mesh.walk(located, p, w);
-    if (!walk) {
+    const auto onlyEeeCrossed = [&] {
+      return std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee);
+    };
+    if (!walk || !onlyEeeCrossed()) {
       const Vec3 start = p + (w - p) * (offStart / distance(p, w));
       const std::optional<int> startFace = data.mesh.locate(start);
       if (!startFace) return false;
       walk = data.mesh.walk(*startFace, start, w);
     }
-    if (!walk || !std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee)) return false;
+    if (!walk || !onlyEeeCrossed()) return false;
     const FaceData& face = data.faces[size_t(walk->face)];
     if (face.unresolved || face.sliver) return false;
     const double reach = distance(p, w) + 2 * nearEee();
