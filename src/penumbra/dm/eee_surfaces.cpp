@@ -730,21 +730,34 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
   return surfaces;
 }
 
-double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
-               const Vec3& p) {
-  std::array<std::pair<Vec3, Vec3>, 3> lines{};  // a point and a direction of each
-  int count = 0;
+namespace {
+
+// The ends of the surface's three lines: the light edge's first (kLightEdge), then the occluder
+// edges'.
+std::array<Vec3, 6> lineEnds(const EeeSurface& surface, const PosedScene& scene,
+                             const EdgeAdjacency& adjacency) {
+  std::array<Vec3, 6> ends{};
+  size_t count = 0;
   if (surface.kind == EeeKind::kLightEdge) {
     const std::vector<Vec3>& v = scene.polygons[surface.light].vertices;
-    const Vec3& a = v[surface.lightEdge];
-    const Vec3& b = v[(surface.lightEdge + 1) % v.size()];
-    lines[count++] = {a, b - a};
+    ends[count++] = v[surface.lightEdge];
+    ends[count++] = v[(surface.lightEdge + 1) % v.size()];
   }
   for (EdgeId e : surface.occluderEdges()) {
     const SceneEdge& edge = adjacency.edges()[e];
-    const Vec3& a = adjacency.position(edge.a);
-    lines[count++] = {a, adjacency.position(edge.b) - a};
+    ends[count++] = adjacency.position(edge.a);
+    ends[count++] = adjacency.position(edge.b);
   }
+  return ends;
+}
+
+}  // namespace
+
+double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
+               const Vec3& p) {
+  const std::array<Vec3, 6> ends = lineEnds(surface, scene, adjacency);
+  std::array<std::pair<Vec3, Vec3>, 3> lines{};  // a point and a direction of each
+  for (size_t k = 0; k < 3; ++k) lines[k] = {ends[2 * k], ends[2 * k + 1] - ends[2 * k]};
   const auto& [a1, d1] = lines[0];
   const auto& [a2, d2] = lines[1];
   const auto& [a3, d3] = lines[2];
@@ -826,18 +839,9 @@ std::vector<IntegerVec3> scaledToIntegers(const std::vector<Vec3>& points) {
 
 std::optional<int> exactEeeSideSign(const EeeSurface& surface, const PosedScene& scene,
                                     const EdgeAdjacency& adjacency, const Vec3& p) {
-  // The three lines' points and directions, and p.
-  std::vector<Vec3> points;
-  if (surface.kind == EeeKind::kLightEdge) {
-    const std::vector<Vec3>& v = scene.polygons[surface.light].vertices;
-    points.push_back(v[surface.lightEdge]);
-    points.push_back(v[(surface.lightEdge + 1) % v.size()]);
-  }
-  for (EdgeId e : surface.occluderEdges()) {
-    const SceneEdge& edge = adjacency.edges()[e];
-    points.push_back(adjacency.position(edge.a));
-    points.push_back(adjacency.position(edge.b));
-  }
+  // The three lines' ends, and p.
+  const std::array<Vec3, 6> ends = lineEnds(surface, scene, adjacency);
+  std::vector<Vec3> points(ends.begin(), ends.end());
   points.push_back(p);
   const std::vector<IntegerVec3> z = scaledToIntegers(points);
   const IntegerVec3 &a1 = z[0], &a2 = z[2], &a3 = z[4], &x = z[6];

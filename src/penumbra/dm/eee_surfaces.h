@@ -56,9 +56,9 @@ struct EeeSurface {
 // side decides which face a point belongs to.
 double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdjacency& adjacency,
                const Vec3& p);
-// The sign of eeeSide computed exactly (rational arithmetic) from the doubles of p and the edges'
-// ends: -1, 0 (p on the quadric) or 1; nothing where T(p) is not defined. For points where the
-// rounded value is too small to trust (about 1e-11 and below).
+// The sign of eeeSide computed exactly (integer arithmetic on the doubles scaled by one power of
+// two) from the doubles of p and the edges' ends: -1, 0 (p on the quadric) or 1; nothing where T(p)
+// is not defined. For points where the rounded value is too small to trust (about 1e-11 and below).
 std::optional<int> exactEeeSideSign(const EeeSurface& surface, const PosedScene& scene,
                                     const EdgeAdjacency& adjacency, const Vec3& p);
 
