@@ -9,13 +9,15 @@
 // built), then with face verification (DmOptions::verifyFaces), with the count of faces it found
 // unresolved.
 //
-// Usage: dm_exactness [--points N] [--propagate on|off] [--walked] [--only S]   (N per scene and
-// copy, default 2000; --propagate sets DmOptions::propagateBackprojections, else its default;
-// --walked: the moving scenes only, their engine built at frame 0 and updated through every frame,
-// the points compared at the last frame's pose; --only: the scenes whose name contains S) Also the
-// midpoint of every event edge of every mesh (where events meet, and the polylines' chords stand
-// farthest from their conics), answered by the mesh or not, and compared likewise. Prints one line
-// per scene and copy, then the totals; exits 0 (a report, not a test).
+// Usage: dm_exactness [--points N] [--propagate on|off] [--walked] [--only S] [--verified-only]
+// (N per scene and copy, default 2000; --propagate sets DmOptions::propagateBackprojections, else
+// its default; --walked: the moving scenes only, their engine built at frame 0 and updated through
+// every frame, the points compared at the last frame's pose; --only: the scenes whose name
+// contains S; --verified-only: only the second run, the engine's default) Also the midpoint of
+// every event edge of every mesh (where events meet, and the polylines' chords stand farthest
+// from their conics), answered by the mesh or not, and compared likewise. Prints one line per
+// scene and copy with its slowest query (and where, past 0.1 s), then the totals; exits 0 (a
+// report, not a test).
 
 #include <algorithm>
 #include <chrono>
@@ -134,7 +136,24 @@ struct Tally {
   long long edgeMidpoints = 0, edgeDiffer = 0, edgeByMesh = 0, edgeOnContacts = 0;
   std::map<DiscontinuityMeshEngine::Answer, long long> edgeAtPoint;  // why the others were not
   double worst = 0;
+  double slowestSeconds = 0;  // the slowest single query and where it was
+  Vec3 slowestAt;
 };
+
+// engine.query(p, n), its time kept in the tally when it is the slowest yet (a query that walks
+// and locates exactly at a degenerate point must not stall a user's probe).
+std::optional<DiscontinuityMeshEngine::Query> timedQuery(const DiscontinuityMeshEngine& engine,
+                                                         const Vec3& p, const Vec3& n,
+                                                         Tally& tally) {
+  const auto start = Clock::now();
+  auto answered = engine.query(p, n);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (seconds > tally.slowestSeconds) {
+    tally.slowestSeconds = seconds;
+    tally.slowestAt = p;
+  }
+  return answered;
+}
 
 const char* answerName(DiscontinuityMeshEngine::Answer answer) {
   using A = DiscontinuityMeshEngine::Answer;
@@ -196,7 +215,7 @@ void compareEdgeMidpoints(const DiscontinuityMeshEngine& engine, const PosedScen
       if (!std::all_of(surfaces.begin(), surfaces.end(), [](SurfaceId id) { return id >= 0; }))
         continue;
       const Vec3 p = (segment.first + segment.second) * 0.5;
-      const auto answered = engine.query(p, receiver.plane.normal);
+      const auto answered = timedQuery(engine, p, receiver.plane.normal, tally);
       using Answer = DiscontinuityMeshEngine::Answer;
       if (answered && answered->answer == Answer::kOnAnotherPolygon) {
         ++tally.edgeOnContacts;
@@ -243,7 +262,7 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
   std::string first;
   for (const ReceiverPoint& q : queries) {
     const Rgb expected = reference.irradiance(q.p, q.n, q.receiver);
-    const auto answered = engine.query(q.p, q.n);
+    const auto answered = timedQuery(engine, q.p, q.n, tally);
     const std::optional<Rgb> got =
         answered ? std::optional(answered->irradiance) : std::optional<Rgb>();
     if (answered && answered->answer == DiscontinuityMeshEngine::Answer::kMesh) ++tally.byMesh;
@@ -260,12 +279,17 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
   }
   compareEdgeMidpoints(engine, posed, reference, tally);
   const DmStats& s = engine.stats();
-  std::printf("%-34s %6zu %6lld %6lld %9.2e %7.2f %6lld/%-6lld %6.2f%% %6lld %5lld %6.2f%% %s\n",
-              name.c_str(), posed.polygons.size(), tally.points, tally.differ, tally.worst, seconds,
-              s.unresolvedFaces, s.meshFaces, 100.0 * double(tally.byMesh) / double(tally.points),
-              tally.edgeMidpoints, tally.edgeDiffer,
-              100.0 * double(tally.edgeByMesh) / double(std::max(1LL, tally.edgeMidpoints)),
-              first.c_str());
+  char slowest[120] = "";
+  if (tally.slowestSeconds > 0.1)
+    std::snprintf(slowest, sizeof slowest, " at (%.9g %.9g %.9g)", tally.slowestAt.x,
+                  tally.slowestAt.y, tally.slowestAt.z);
+  std::printf(
+      "%-34s %6zu %6lld %6lld %9.2e %7.2f %6lld/%-6lld %6.2f%% %6lld %5lld %6.2f%% %8.4f%s %s\n",
+      name.c_str(), posed.polygons.size(), tally.points, tally.differ, tally.worst, seconds,
+      s.unresolvedFaces, s.meshFaces, 100.0 * double(tally.byMesh) / double(tally.points),
+      tally.edgeMidpoints, tally.edgeDiffer,
+      100.0 * double(tally.edgeByMesh) / double(std::max(1LL, tally.edgeMidpoints)),
+      tally.slowestSeconds, slowest, first.c_str());
   std::fflush(stdout);
   return tally;
 }
@@ -275,9 +299,11 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
 int main(int argc, char** argv) {
   int points = 2000;
   bool propagate = DmOptions{}.propagateBackprojections;
-  bool walked = false;
-  for (int i = 1; i < argc; ++i)
+  bool walked = false, verifiedOnly = false;
+  for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--walked")) walked = true;
+    if (!std::strcmp(argv[i], "--verified-only")) verifiedOnly = true;
+  }
   std::string only;  // --only S: the scenes whose name contains S
   for (int i = 1; i + 1 < argc; ++i) {
     if (!std::strcmp(argv[i], "--only")) only = argv[i + 1];
@@ -318,10 +344,11 @@ int main(int argc, char** argv) {
       "backprojections %s%s\n",
       points, propagate ? "propagated between faces (where verified)" : "from scratch",
       walked ? "; engines updated through every frame, compared at the last" : "");
-  std::printf("%-34s %6s %6s %6s %9s %7s %s %s %s %s %s\n", "scene", "polys", "points", "differ",
+  std::printf("%-34s %6s %6s %6s %9s %7s %s %s %s %s %s %s\n", "scene", "polys", "points", "differ",
               "worst", "build s", "unresolved/faces", "by mesh", "edge midpoints", "differ",
-              "by mesh");
+              "by mesh", "slowest query s");
   for (bool verifyFaces : {false, true}) {
+    if (!verifyFaces && verifiedOnly) continue;
     std::printf("\n## faces %s\n", verifyFaces ? "verified at their corners (the default)"
                                                : "answering from their sample's labels only");
     Tally total, totalTriangulated;

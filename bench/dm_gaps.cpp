@@ -271,8 +271,8 @@ int main(int argc, char** argv) {
             engine.faceBackprojections(receiver.id, face.index);
         for (const Polygon3& cycle : mesh->faceBoundary(face.index))
           for (const Vec3& corner : cycle) {
-            const Vec3 p =
-                corner + (face.samplePoint - corner) * DiscontinuityMeshEngine::kCornerInset;
+            const Vec3 p = corner + (face.samplePoint - corner) *
+                                        DiscontinuityMeshEngine::kCornerInsets.front();
             if (mesh->locate(p) != face.index || engine.isNearEeePolyline(receiver.id, p)) continue;
             const Rgb expected = reference.irradiance(p, n, receiver.id);
             const Rgb got = builder.irradiance(perLight, p, n, receiver.id);
@@ -312,7 +312,7 @@ int main(int argc, char** argv) {
       for (const Polygon3& cycle : mesh->faceBoundary(face.index)) {
         for (const Vec3& corner : cycle) {
           const Vec3 p =
-              corner + (face.samplePoint - corner) * DiscontinuityMeshEngine::kCornerInset;
+              corner + (face.samplePoint - corner) * DiscontinuityMeshEngine::kCornerInsets.front();
           if (mesh->locate(p) != face.index) continue;
           for (size_t l = 0; l < posed.lights.size() && !found; ++l) {
             const Backprojection& atSample = perLight[l];

@@ -215,8 +215,8 @@ void checkSolution(const DiscontinuityMeshEngine& engine, const DynamicScene& li
     const auto receiver = locateReceiver(posed, live.grid(), probe.p, probe.n);
     const Rgb expected = reference.irradiance(
         probe.p, probe.n, receiver ? std::optional(receiver->polygon) : std::nullopt);
-    if (!isFiniteNonNegative(expected) && !(tolerates("reference-rounding-below-zero") &&
-                                            !DiscontinuityMeshEngine::isDegenerate(expected)))
+    if (!isFiniteNonNegative(expected) &&
+        !(tolerates("reference-rounding-below-zero") && !engine.isDegenerate(expected)))
       reportFinding(where + ": the exact reference answers " + text(expected));
     // Within 1e-8 of the extent's size of another polygon: ten times the engine's own grey zone
     // there (discontinuity segments are lengthened by 1e-9 of the extent's size).

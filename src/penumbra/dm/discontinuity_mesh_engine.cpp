@@ -157,6 +157,32 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
   return true;
 }
 
+// The points a corner's verification probe is chosen from, in order (the first strictly inside
+// the face and away from EEE polylines is the probe): at each inset of the way to the face's
+// sample, the point towards the sample, then the points along the corner's bisector either
+// way, as far from the corner (at a concave corner, or where a polyline bulges into the face,
+// the line to the sample leaves the face at once; the bisector stays in it).
+std::vector<Vec3> probeCandidates(const Polygon3& cycle, size_t corner, const Vec3& sample) {
+  const Vec3& c = cycle[corner];
+  const Vec3 toPrevious = cycle[(corner + cycle.size() - 1) % cycle.size()] - c;
+  const Vec3 toNext = cycle[(corner + 1) % cycle.size()] - c;
+  const double reach = distance(c, sample);
+  Vec3 bisector{0, 0, 0};
+  if (length(toPrevious) > 0 && length(toNext) > 0)
+    bisector = toPrevious / length(toPrevious) + toNext / length(toNext);
+  const double spread = length(bisector);
+  std::vector<Vec3> out;
+  for (const double inset : DiscontinuityMeshEngine::kCornerInsets) {
+    out.push_back(c + (sample - c) * inset);
+    if (spread > 1e-6) {
+      const Vec3 step = bisector * (inset * reach / spread);
+      out.push_back(c + step);
+      out.push_back(c - step);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshFace& face,
@@ -165,16 +191,17 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
                                             const SceneChange& change) const {
   // The face's data is computed from its boundary (here the same vertices), its sample, and its
   // corner probes (labelsHoldAtCorners): a backprojection per light at each, which reads only the
-  // polygons its cone admits (ExactReference::mayOcclude). The probes are the points just inside
-  // its corners that lie strictly inside it (a function of its geometry) and away from EEE
-  // polylines: the same where the polylines near every such point are the same.
-  // Every test below is on the set of inset points, in any order.
+  // polygons its cone admits (ExactReference::mayOcclude). The probes are, per corner, the first
+  // of the inset points towards the sample that lies strictly inside the face (a function of its
+  // geometry) and away from EEE polylines: the same where the polylines near every inset point
+  // are the same. Every test below is on the set of inset points, in any order.
   std::vector<Vec3> insets;
   Box3 bounds;
-  for (const Vec3& corner : now.mesh.faceCorners(face.index)) {
-    insets.push_back(corner + (face.samplePoint - corner) * kCornerInset);
-    bounds.extend(corner);
-  }
+  for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
+    for (size_t i = 0; i < cycle.size(); ++i) {
+      for (const Vec3& p : probeCandidates(cycle, i, face.samplePoint)) insets.push_back(p);
+      bounds.extend(cycle[i]);
+    }
   if (!sameEee) {
     // Whether a point is near a polyline changes only where a polyline that changed (one of
     // `eeeChanged`, the polylines of either frame missing from the other) is near it.
@@ -859,19 +886,20 @@ std::vector<Vec3> DiscontinuityMeshEngine::cornerProbes(const ReceiverMesh& mesh
   const double apart = 1e-7 * posed_->extent.diagonalLength();
   std::vector<Vec3> checked, probes;
   for (const Polygon3& cycle : mesh.faceBoundary(face.index))
-    for (const Vec3& corner : cycle) {
+    for (size_t i = 0; i < cycle.size(); ++i) {
+      const Vec3& corner = cycle[i];
       if (std::any_of(checked.begin(), checked.end(),
                       [&](const Vec3& c) { return distance(c, corner) <= apart; }))
         continue;
       checked.push_back(corner);
-      // Just inside the face near the corner; a point that falls outside it (a concave corner,
-      // a sliver) proves nothing and is skipped.
-      const Vec3 p = corner + (face.samplePoint - corner) * kCornerInset;
-      if (!mesh.isInside(p, face.index)) continue;
-      // Beside an EEE polyline the labels may be those of the conic's other side (the polyline
-      // stands within its tolerance of the conic); queries there are answered at the point.
-      if (eeeSegments.near(p, nearEee())) continue;
-      probes.push_back(p);
+      // Just inside the face near the corner, else farther in: a point that falls outside it (a
+      // concave corner, a sliver) proves nothing, and beside an EEE polyline the labels may be
+      // those of the conic's other side (the polyline stands within its tolerance of the conic).
+      for (const Vec3& p : probeCandidates(cycle, i, face.samplePoint)) {
+        if (!mesh.isInside(p, face.index) || eeeSegments.near(p, nearEee())) continue;
+        probes.push_back(p);
+        break;
+      }
     }
   return probes;
 }
@@ -1192,9 +1220,13 @@ bool DiscontinuityMeshEngine::liesOnAnotherPolygon(const Vec3& p, PolygonId rece
   return false;
 }
 
-bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) {
+bool DiscontinuityMeshEngine::isDegenerate(const Rgb& e) const {
   if (!e.isFinite()) return true;
-  const double slack = std::max(1e-15, 1e-12 * e.maxComponent());
+  double brightest = 0;
+  for (const PolygonId light : posed_->lights)
+    brightest =
+        std::max(brightest, posed_->materialOf(posed_->polygons[light]).emission.maxComponent());
+  const double slack = std::max({1e-15, 1e-13 * brightest, 1e-12 * e.maxComponent()});
   return e.r < -slack || e.g < -slack || e.b < -slack;
 }
 

@@ -12,6 +12,7 @@
 // light plane's line and the horizon events on receivers. Face verification
 // (DmOptions::verifyFaces) finds the faces that a missing event crosses; they answer at the point.
 
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -132,9 +133,12 @@ class DiscontinuityMeshEngine {
   // EEE conics are traced as polylines within this fraction of the scene's size; points closer
   // than twice that to such a polyline get their backprojection computed where they are.
   static constexpr double kEeeChordTolerance = 1e-6;
-  // Face verification samples the points this fraction of the way from each corner to the face's
-  // sample point.
-  static constexpr double kCornerInset = 1e-3;
+  // Face verification samples the point this fraction of the way from each corner to the face's
+  // sample point; where that point lies beside an EEE polyline (whose side of the conic is not
+  // known) or outside the face, the next fraction, farther in. A face whose corners all lie
+  // beside polylines is then still verified, as its labels answer points beside them
+  // (facesBySides).
+  static constexpr std::array<double, 4> kCornerInsets{1e-3, 1e-2, 1e-1, 0.5};
   // Faces narrower than about this fraction of the scene's size are slivers, left unverified.
   static constexpr double kSliverSize = 1e-7;
 
@@ -185,9 +189,13 @@ class DiscontinuityMeshEngine {
   // irradiance(), saying how it was answered.
   std::optional<Query> query(const Vec3& p, const Vec3& n) const;
   // Is a value from a backprojection degenerate: not finite, or below zero by more than rounding
-  // (1e-12 of its largest channel, or 1e-15)? Lambert's formula gives such values at points where
-  // an occluder touches the receiver (zero-length edge vectors); they are answered at the point.
-  static bool isDegenerate(const Rgb& e);
+  // (1e-12 of its largest channel, or 1e-13 of the brightest light's exitance)? Lambert's formula
+  // gives such values at points where an occluder touches the receiver (zero-length edge
+  // vectors); they are answered at the point. In an umbra the sum of the light's terms, each of
+  // the order of its exitance, rounds to a few 1e-14 of it either side of zero (measured at edge
+  // midpoints of desk-145: down to -3e-14 W/m² under a lamp of exitance 110): that is zero, and
+  // within what the engine answers to there (1e-9 of 1e-4 of the exitance, bench/dm_exactness).
+  bool isDegenerate(const Rgb& e) const;
   // A value that is not degenerate, with what rounding left below zero (Lambert's sum in an
   // umbra: -1e-15 of the brightest value) set to zero: irradiance is never negative.
   static Rgb withoutRoundingBelowZero(const Rgb& e);

@@ -26,10 +26,10 @@ Rgb cornerIrradiance(const DiscontinuityMeshEngine& engine, PolygonId receiver, 
                      const Vec3& p, const Vec3& inside, long long& fallbacks) {
   using Engine = DiscontinuityMeshEngine;
   const Rgb atCorner = engine.faceIrradianceAt(receiver, face, p);
-  if (!Engine::isDegenerate(atCorner)) return Engine::withoutRoundingBelowZero(atCorner);
+  if (!engine.isDegenerate(atCorner)) return Engine::withoutRoundingBelowZero(atCorner);
   ++fallbacks;
   const Rgb exact = engine.irradianceAtPoint(receiver, p);
-  if (!Engine::isDegenerate(exact)) return Engine::withoutRoundingBelowZero(exact);
+  if (!engine.isDegenerate(exact)) return Engine::withoutRoundingBelowZero(exact);
   return Engine::withoutRoundingBelowZero(
       engine.irradianceAtPoint(receiver, p + (inside - p) * 1e-6));
 }

@@ -2,8 +2,8 @@
 
 #include <CGAL/Arr_consolidated_curve_data_traits_2.h>
 #include <CGAL/Arr_extended_dcel.h>
-#include <CGAL/Arr_landmarks_point_location.h>
 #include <CGAL/Arr_segment_traits_2.h>
+#include <CGAL/Arr_trapezoid_ric_point_location.h>
 #include <CGAL/Arr_walk_along_line_point_location.h>
 #include <CGAL/Arrangement_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -39,7 +39,7 @@ using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 using Point = Kernel::Point_2;
 using FT = Kernel::FT;
 // Landmarks: fast queries on large meshes (attached lazily, see Impl::attachedLocator).
-using PointLocation = CGAL::Arr_landmarks_point_location<Arrangement>;
+using PointLocation = CGAL::Arr_trapezoid_ric_point_location<Arrangement>;
 // Edits locate with a walk: attached landmarks rebuild themselves after every edit.
 using WalkLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
 
@@ -87,7 +87,9 @@ struct ReceiverMesh::Impl {
     if (!locatorAttached.load(std::memory_order_acquire)) {
       const std::lock_guard<std::mutex> lock(locatorMutex);
       if (!locatorAttached.load(std::memory_order_relaxed)) {
-        locator.attach(arrangement);
+        // The trapezoidal map observes the arrangement (so it takes it non-const); attaching only
+        // reads it, and the map is dropped by detachLocator() before any edit.
+        locator.attach(const_cast<Arrangement&>(arrangement));
         locatorAttached.store(true, std::memory_order_release);
       }
     }
