@@ -298,13 +298,14 @@ TEST(DiscontinuityMeshEngine, PointsOnMeshEdgesAreExact) {
   std::printf("[ info     ] %d of %d edge midpoints answered by the mesh\n", byMesh, checked);
   EXPECT_GT(checked, 500);
   EXPECT_EQ(failures, 0) << failures << " of " << byMesh;
-  // Measured (session 13): 3,023 of 3,052 (99.05%), since the face near an EEE polyline is found
-  // by witness points beside the point (instead of the faces' far samples), sides too close to
-  // call are computed exactly, and points in rounding-thin slivers answer from the neighbour
-  // beside them; 2,857 (93.6%) before; 754 (24.7%) before the exact side test near EEE polylines.
-  // What is left: points in narrow corners where a polyline meets straight events, with no
-  // witness beyond the polylines' tolerance that a walk reaches across EEE polylines only.
-  EXPECT_GE(byMesh, 0.99 * checked);
+  // Measured (session 14): 3,040 of 3,052 (99.61%), since a point in a corner narrower than the
+  // polylines' tolerance answers where the faces around it agree. Session 13: 3,023 (99.05%),
+  // since the face near an EEE polyline is found by witness points beside the point (instead of
+  // the faces' far samples), sides too close to call are computed exactly, and points in
+  // rounding-thin slivers answer from the neighbour beside them; 2,857 (93.6%) before; 754
+  // (24.7%) before the exact side test near EEE polylines. What is left: narrow corners whose
+  // faces disagree at the point.
+  EXPECT_GE(byMesh, 0.995 * checked);
 }
 
 // A point on the diagonal of a rotated box's triangulated face (an edge midpoint of its mesh,
@@ -340,13 +341,14 @@ TEST(DiscontinuityMeshEngine, UnresolvedFacesInBundledScenes) {
       {"/scenes/office-desk/desk-145.json", 0},     // [0] 0
       {"/scenes/office-desk/desk-307.json", 1},     // [0] 3 and 1 unlabelled
       {"/scenes/office-desk/desk-475.json", 2},     // [1] 10 and 4 unlabelled
-      {"/scenes/chair-room/chair-room.json", 1},    // [0] 0
+      {"/scenes/chair-room/chair-room.json", 0},    // [0] 0
   };
-  // Session 14: one more in desk-307, desk-475 and the chair room, found by probes that now reach
-  // corners beside EEE polylines (farther in, along the corner's bisector): faces crossed by a
-  // missing event that were answered wrong before (chair room floor near (2.39, 0, 2.306): 1.4903
-  // against 1.4960 over a strip 1 cm wide), now answered at the point. The events are not found
-  // yet.
+  // Session 14: one more in desk-307 and desk-475, found by probes that now reach corners beside
+  // EEE polylines (farther in, along the corner's bisector): faces crossed by a missing event,
+  // answered wrong before, now at the point. The chair room's (its floor near (2.39, 0, 2.306):
+  // 1.4903 against 1.4960 over a strip 1 cm wide) was a stretch of an EEE surface seen between
+  // a chair's back post and its seat, which the tracing's samples stepped over: it now brackets
+  // the lines between separate blockers.
   for (const auto& [name, bound] : bounds) {
     DiscontinuityMeshEngine engine;
     engine.build(loadScene(std::string(PENUMBRA_SOURCE_DIR) + name), 0);

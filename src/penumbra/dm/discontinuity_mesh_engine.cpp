@@ -1194,7 +1194,15 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
           p + frame.u * (radius * std::cos(angle)) + frame.v * (radius * std::sin(angle));
       if (witnessed(w)) return faces;
     }
-  return {};
+  // No witness: p lies in a corner narrower than the polylines' tolerance (a polyline ending on
+  // a straight event). Its true face is one of those reached from the located one across the
+  // polylines passing near p (the conic stands within their tolerance): the caller answers when
+  // all their labels agree at p to 1e-11 (the value is then one of theirs). They often do:
+  // across an EEE event irradiance and its gradient are continuous, and p is within the
+  // polylines' tolerance of the conic.
+  for (const int face : queue)
+    if (data.faces[size_t(face)].unresolved || data.faces[size_t(face)].sliver) return {};
+  return queue;
 }
 
 bool DiscontinuityMeshEngine::liesOnAnotherPolygon(const Vec3& p, PolygonId receiver) const {

@@ -238,6 +238,7 @@ struct LineHit {
   bool valid = false;    // the line meets the light and every occluder edge
   bool visible = false;  // nothing blocks it before its far contact, and it reaches a polygon
   PolygonId receiver = -1;
+  PolygonId blocker = -1;  // invisible: the polygon found blocking it before its far contact
   Vec3 point;
 };
 
@@ -367,7 +368,10 @@ class Tracer {
         const auto u = crossing(scene_.polygons[id], line->source, line->direction);
         if (!u || *u <= 0) continue;
         if (crossed_) crossed_->push_back(id);
-        if (*u < line->farContact * (1 - 1e-9)) return result;  // blocked before the event
+        if (*u < line->farContact * (1 - 1e-9)) {  // blocked before the event
+          result.blocker = id;
+          return result;
+        }
         if (*u > line->farContact * (1 + 1e-9) && *u < nearest) {
           nearest = *u;
           result.receiver = id;
@@ -378,6 +382,17 @@ class Tracer {
     result.visible = true;
     result.point = line->source + line->direction * nearest;
     return result;
+  }
+
+  // Are two invisible lines blocked by different polygons sharing no vertex (or one not blocked
+  // at all: it misses the light or an edge, or an edge is no silhouette along it)?
+  bool separateBlockers(const LineHit& a, const LineHit& b) const {
+    if (a.blocker == b.blocker) return false;
+    if (a.blocker < 0 || b.blocker < 0) return a.valid && b.valid;
+    const std::vector<VertexId>& va = adjacency_.polygonVertices(a.blocker);
+    const std::vector<VertexId>& vb = adjacency_.polygonVertices(b.blocker);
+    return std::none_of(va.begin(), va.end(),
+                        [&](VertexId v) { return std::find(vb.begin(), vb.end(), v) != vb.end(); });
   }
 
   static double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
@@ -423,9 +438,13 @@ class Tracer {
       emit(h0, h1, t0, t1);
       return;
     }
-    // Invisible at both ends and in the middle: nothing here (a visible stretch narrower than
-    // half a sample interval would be missed; the first samples are 1/12 of the valid range).
-    if (bothInvisible && !hm.visible) return;
+    // Invisible at both ends and in the middle, behind one blocker or behind polygons joined at
+    // a vertex: nothing here. Behind two separate blockers the lines may pass between them: a
+    // visible stretch narrower than half a sample interval (the first samples are 1/12 of the
+    // valid range) is then bracketed too (a chair's back post and its seat, the floor seen
+    // between them: missing there, the face beside it was answered 0.4% off).
+    if (bothInvisible && !hm.visible && !separateBlockers(h0, hm) && !separateBlockers(hm, h1))
+      return;
     refine(t0, h0, tm, hm, depth + 1);
     refine(tm, hm, t1, h1, depth + 1);
   }
