@@ -135,9 +135,9 @@ class DiscontinuityMeshEngine {
   static constexpr double kEeeChordTolerance = 1e-6;
   // Face verification samples the point this fraction of the way from each corner to the face's
   // sample point; where that point lies beside an EEE polyline (whose side of the conic is not
-  // known) or outside the face, the next fraction, farther in. A face whose corners all lie
-  // beside polylines is then still verified, as its labels answer points beside them
-  // (facesBySides).
+  // known) or outside the face (a concave corner), the points as far along the corner's bisector,
+  // then the next fraction, farther in. A face whose corners all lie beside polylines is then
+  // still verified, as its labels answer points beside them (facesBySides).
   static constexpr std::array<double, 4> kCornerInsets{1e-3, 1e-2, 1e-1, 0.5};
   // Faces narrower than about this fraction of the scene's size are slivers, left unverified.
   static constexpr double kSliverSize = 1e-7;

@@ -38,9 +38,12 @@ struct VertexData {
 using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 using Point = Kernel::Point_2;
 using FT = Kernel::FT;
-// Landmarks: fast queries on large meshes (attached lazily, see Impl::attachedLocator).
+// Queries: the trapezoidal map (expected logarithmic; attached lazily, see
+// Impl::attachedLocator). Not landmarks: CGAL 5.5's landmark walk never returned at an edge
+// midpoint of a triangulated box (test DegeneratePointOnATriangulatedBoxIsLocated), and reads a
+// flag it may leave unset (fuzz/README.md).
 using PointLocation = CGAL::Arr_trapezoid_ric_point_location<Arrangement>;
-// Edits locate with a walk: attached landmarks rebuild themselves after every edit.
+// Edits locate with a walk: an attached map would rebuild itself after every edit.
 using WalkLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
 
 // Where a piece comes from, in the doubles it was computed from: its segment's ends, and the ends
