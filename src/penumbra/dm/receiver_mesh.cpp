@@ -10,11 +10,9 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <set>
 #include <tuple>
 #include <unordered_map>
@@ -75,28 +73,17 @@ struct ReceiverMesh::Impl {
   Plane plane;
   Polygon2 outline;
   Arrangement arrangement;
-  // Attached on the first query after an edit (locate() may run on several threads at once):
-  // attached, it rebuilds after every change to the arrangement, and an update or a build that
-  // nobody queries would pay for that on every receiver it touches.
-  mutable PointLocation locator;
-  mutable std::mutex locatorMutex;
-  mutable std::atomic<bool> locatorAttached{false};
-  void detachLocator() {
-    if (!locatorAttached.load(std::memory_order_acquire)) return;
-    locator.detach();
-    locatorAttached.store(false, std::memory_order_release);
-  }
+  // Made on the first query after an edit: made, it rebuilds after every change to the
+  // arrangement, and an update or a build that nobody queries would pay for that on every
+  // receiver it touches. Made anew rather than detached and attached again: CGAL 5.5's
+  // trapezoidal map allocates its traits at every attach and frees them only when destroyed (a
+  // leak per edited receiver and frame). One query at a time: the map remembers its last answers
+  // and exact numbers cache lazily (the engine's queries run on one thread, see final_gather.cpp).
+  mutable std::optional<PointLocation> locator;
+  void detachLocator() { locator.reset(); }
   const PointLocation& attachedLocator() const {
-    if (!locatorAttached.load(std::memory_order_acquire)) {
-      const std::lock_guard<std::mutex> lock(locatorMutex);
-      if (!locatorAttached.load(std::memory_order_relaxed)) {
-        // The trapezoidal map observes the arrangement (so it takes it non-const); attaching only
-        // reads it, and the map is dropped by detachLocator() before any edit.
-        locator.attach(const_cast<Arrangement&>(arrangement));
-        locatorAttached.store(true, std::memory_order_release);
-      }
-    }
-    return locator;
+    if (!locator) locator.emplace(arrangement);
+    return *locator;
   }
   std::vector<MeshFace> faces;
   // The receiver's outline, and whether the arrangement still holds nothing else (see insert()).
