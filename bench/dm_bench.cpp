@@ -77,7 +77,7 @@ void runScene(const std::string& name, const std::string& path, bool monteCarlo)
       s.secondsVisibility, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
       s.secondsVerification, s.surfacesEmitterVertex, s.surfacesEmitterEdge, s.surfacesNonEmitter,
       s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge + s.surfacesOccluderPlaneVertex +
-          s.surfacesCoplanarEdges + s.surfacesParallelEdgeCrossing,
+          s.surfacesCoplanarEdges + s.surfacesParallelEdgeCrossing + s.surfacesCoplanarEdgeCrossing,
       s.surfacesEee + s.surfacesEeeOccluder, s.storedIntersections, s.eeeSegments,
       s.visibleSegments, s.meshVertices, s.meshEdges, s.meshFaces, s.unresolvedFaces,
       kib(s.gridBytes), kib(s.surfaceCellBytes), kib(s.intersectionBytes), kib(s.meshBytes),

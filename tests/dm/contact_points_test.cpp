@@ -162,9 +162,10 @@ TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
                        << first;
   EXPECT_EQ(contactsDiffer, 0) << "of " << atContacts << " contact points";
   EXPECT_GT(beside, 0);
-  // Answered by the mesh (session 11): 99.1-99.9% in every scene but the glTF box (93.8%); all
-  // scenes together 139,981 of 140,128 (99.9%).
-  EXPECT_GE(besideByMesh, 0.93 * beside);
+  // Answered by the mesh (session 15): every point in every scene but the furnished room
+  // (68,916 of 68,920); session 11 had the glTF box at 93.8%. The floor leaves 10x the largest
+  // share measured at the point.
+  EXPECT_GE(besideByMesh, 0.999 * beside);
 }
 
 INSTANTIATE_TEST_SUITE_P(

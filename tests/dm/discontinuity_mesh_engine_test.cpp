@@ -223,6 +223,37 @@ TEST(DiscontinuityMeshEngine, CoplanarEdgesOfDifferentObjectsCompleteTheMesh) {
   EXPECT_EQ(facesWrongAtCorners(poseAt(scene, 0), "desk-145"), 0);
 }
 
+// Two parallel occluder edges of different objects (desk-307's desk top front edge and a drawer
+// bottom's front edge) span a plane that crosses the lamp; seen from it their projections
+// coincide. Two more edges (a leg's, a drawer side's) cross that plane and, with either of the
+// two, bound a sliver of visible light on the floor: at the crossing of the third edge's
+// projection with theirs the region's vertex switches from one edge to the other. Neither light
+// edge's fan of the plane reaches that (kLightEdgeCoplanarEdges holds the lines through the
+// trace's ends only): the fans through the crossings do (kCoplanarEdgesOccluderCrossing). Without
+// them the floor's face there is unresolved (its labels (33,3)(44,1)(55,2) wrong at a corner
+// where (7,2) takes over); with them the mesh answers there, exactly.
+TEST(DiscontinuityMeshEngine, CoplanarEdgesCrossedByAnotherEdgeCompleteTheMesh) {
+  const Scene scene =
+      loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/office-desk/desk-307.json");
+  DmOptions without;
+  without.coplanarEdgeCrossings = false;
+  DiscontinuityMeshEngine before(without);
+  before.build(scene, 0);
+  EXPECT_EQ(before.stats().unresolvedFaces, 1);
+  DiscontinuityMeshEngine engine;
+  engine.build(scene, 0);
+  EXPECT_GT(engine.stats().surfacesCoplanarEdgeCrossing, 0);
+  EXPECT_EQ(engine.stats().unresolvedFaces, 0);
+  // Inside the face that was unresolved: answered by the mesh, as the reference.
+  const Vec3 p{3.16594783, 0, 1.16594592}, up{0, 1, 0};
+  const auto query = engine.query(p, up);
+  ASSERT_TRUE(query);
+  EXPECT_EQ(query->answer, DiscontinuityMeshEngine::Answer::kMesh);
+  const double expected = engine.irradianceAtPoint(0, p).r;
+  EXPECT_GT(expected, 0);
+  EXPECT_NEAR(query->irradiance.r, expected, 1e-9 * expected);
+}
+
 // Points exactly on mesh edges (the middle of every edge an EV or EEE event made, not lying on a
 // contact line, where irradiance jumps): the located face is either neighbour, and both give the
 // reference's value (irradiance is continuous across those events).
@@ -339,8 +370,8 @@ TEST(DiscontinuityMeshEngine, UnresolvedFacesInBundledScenes) {
   const std::vector<std::pair<const char*, long long>> bounds{
       {"/scenes/cornell-box/cornell-box.json", 0},  // [0] 1 and 3 unlabelled
       {"/scenes/office-desk/desk-145.json", 0},     // [0] 0
-      {"/scenes/office-desk/desk-307.json", 1},     // [0] 3 and 1 unlabelled
-      {"/scenes/office-desk/desk-475.json", 2},     // [1] 10 and 4 unlabelled
+      {"/scenes/office-desk/desk-307.json", 0},     // [0] 3 and 1 unlabelled
+      {"/scenes/office-desk/desk-475.json", 0},     // [1] 10 and 4 unlabelled
       {"/scenes/chair-room/chair-room.json", 0},    // [0] 0
   };
   // Session 14: one more in desk-307 and desk-475, found by probes that now reach corners beside
@@ -348,10 +379,24 @@ TEST(DiscontinuityMeshEngine, UnresolvedFacesInBundledScenes) {
   // answered wrong before, now at the point. The chair room's (its floor near (2.39, 0, 2.306):
   // 1.4903 against 1.4960 over a strip 1 cm wide) was a stretch of an EEE surface seen between
   // a chair's back post and its seat, which the tracing's samples stepped over: it now brackets
-  // the lines between separate blockers.
+  // the lines between separate blockers. Session 15: desk-307's and one of desk-475's were
+  // coplanar edges crossed by a third (CoplanarEdgesCrossedByAnotherEdgeCompleteTheMesh); the
+  // other of desk-475's, a turned stool's top edge and a panel's edge above it, parallel in the
+  // model but 1e-16 out of one plane once rotated: their EEE quadric's valid lines, a rounding
+  // wide, were found on one light edge and lost on the other. Within 1e-10 of the scene's size
+  // such pairs are now coplanar (their plane's fans); a point of that face where the panel's edge
+  // takes over (0.14% off with the top's labels) is answered by the mesh.
   for (const auto& [name, bound] : bounds) {
     DiscontinuityMeshEngine engine;
     engine.build(loadScene(std::string(PENUMBRA_SOURCE_DIR) + name), 0);
+    if (std::string(name) == "/scenes/office-desk/desk-475.json") {
+      const Vec3 p{0.937629663018, 0, 2.14410328189};
+      const auto query = engine.query(p, {0, 1, 0});
+      ASSERT_TRUE(query);
+      EXPECT_EQ(query->answer, DiscontinuityMeshEngine::Answer::kMesh);
+      const double expected = engine.irradianceAtPoint(0, p).r;
+      EXPECT_NEAR(query->irradiance.r, expected, 1e-9 * expected);
+    }
     std::printf("[ info     ] %s: %lld unresolved of %lld faces\n", name,
                 engine.stats().unresolvedFaces, engine.stats().meshFaces);
     EXPECT_LE(engine.stats().unresolvedFaces, bound) << name;

@@ -50,12 +50,14 @@ nlohmann::json statsJson(const DmStats& s) {
             {"ev_occluder_plane_own_vertex", s.surfacesOccluderPlaneVertex},
             {"eee_light_edge_coplanar_edges", s.surfacesCoplanarEdges},
             {"eee_light_edge_parallel_edge_crossing", s.surfacesParallelEdgeCrossing},
+            {"eee_coplanar_edges_occluder_crossing", s.surfacesCoplanarEdgeCrossing},
             {"eee_light_edge_two_occluder_edges", s.surfacesEee},
             {"eee_three_occluder_edges", s.surfacesEeeOccluder},
             {"total", s.surfacesEmitterVertex + s.surfacesEmitterEdge + s.surfacesNonEmitter +
                           s.surfacesOccluderPlane + s.surfacesOccluderPlaneEdge +
                           s.surfacesOccluderPlaneVertex + s.surfacesCoplanarEdges +
-                          s.surfacesParallelEdgeCrossing + s.surfacesEee + s.surfacesEeeOccluder}}},
+                          s.surfacesParallelEdgeCrossing + s.surfacesCoplanarEdgeCrossing +
+                          s.surfacesEee + s.surfacesEeeOccluder}}},
           {"eee_polyline_segments", s.eeeSegments},
           {"eee_surfaces_truncated", s.eeeSurfacesTruncated},
           {"stored_intersections", s.storedIntersections},

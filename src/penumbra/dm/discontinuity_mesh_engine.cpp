@@ -373,6 +373,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         break;
       case SurfaceKind::kLightEdgeCoplanarEdges:  // made after casting, counted there
       case SurfaceKind::kLightEdgeParallelEdgeCrossing:
+      case SurfaceKind::kCoplanarEdgesOccluderCrossing:
         break;
     }
   }
@@ -519,6 +520,13 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     for (DiscontinuitySurface& s : coplanarEdgeSurfaces(
              scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + afterCasting.size())))
       afterCasting.push_back(std::move(s));
+    if (!options_.coplanarEdgeCrossings) continue;
+    for (DiscontinuitySurface& s :
+         coplanarEdgeCrossingSurfaces(scene, *adjacency_, *grid_, pairs, light,
+                                      SurfaceId(surfaces_.size() + afterCasting.size()))) {
+      afterCasting.push_back(std::move(s));
+      ++stats_.surfacesCoplanarEdgeCrossing;
+    }
   }
   // The parallel-edge and coplanar-edge fans are planar surfaces like the EV ones (made from the
   // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
@@ -531,7 +539,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     addVisible(s, surfaces_.size());
     surfaces_.push_back(std::move(s));
   }
-  stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing;
+  stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing -
+                                 stats_.surfacesCoplanarEdgeCrossing;
   for (size_t k = 0; k < eeeSurfaces_.size(); ++k)
     eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the

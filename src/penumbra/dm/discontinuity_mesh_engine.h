@@ -67,6 +67,7 @@ struct DmStats {
   int surfacesOccluderPlaneVertex = 0;   // an occluder polygon's plane × its own vertex
   int surfacesCoplanarEdges = 0;         // light edge × two coplanar occluder edges
   int surfacesParallelEdgeCrossing = 0;  // light edge × parallel occluder edge × crossing X
+  int surfacesCoplanarEdgeCrossing = 0;  // two coplanar occluder edges × crossing X
   int surfacesEee = 0;                   // light edge × two occluder edges (traced as polylines)
   int surfacesEeeOccluder = 0;           // three occluder edges (traced as polylines)
   long long eeeSegments = 0;
@@ -108,6 +109,10 @@ struct DmOptions {
   // occluder edge in line with it (SurfaceKind::kLightEdgeParallelEdgeCrossing). Off only to
   // measure what they add (tests, benchmarks).
   bool parallelEdgeCrossings = true;
+  // The fans through the points where an occluder edge crosses the plane of two coplanar occluder
+  // edges of different polygons (SurfaceKind::kCoplanarEdgesOccluderCrossing). Off only to
+  // measure what they add.
+  bool coplanarEdgeCrossings = true;
   // Check every face's labels just inside its corners against those at its sample point. A face
   // where they differ is crossed by an event the mesh lacks (a missing event is a defect of the
   // mesh, counted in DmStats::unresolvedFaces); queries there compute the backprojection at the

@@ -54,6 +54,14 @@ enum class SurfaceKind {
   // and light-edge EV fans of that plane hold only the lines through an end of either edge; with
   // an obstacle between them, the rest of the event was lost.)
   kLightEdgeParallelEdgeCrossing,
+  // Degenerate EEE of two coplanar occluder edges of different polygons (parallel ones: the front
+  // edges of a desk top and of a drawer below it) and a third occluder edge crossing their plane
+  // at X: seen from the plane, the two edges' projections coincide, and where the third edge's
+  // projection cuts them, the vertex of the visible light switches from one to the other. The
+  // lines of the plane through X meeting the light's trace in the plane and both edges: a fan
+  // with the fixed hinge X. (The light edges' fans of that plane, kLightEdgeCoplanarEdges, hold
+  // only the lines through the trace's ends.)
+  kCoplanarEdgesOccluderCrossing,
 };
 
 struct CriticalFan {

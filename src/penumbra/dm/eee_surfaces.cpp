@@ -471,6 +471,25 @@ bool sharesVertex(const SceneEdge& a, const SceneEdge& b) {
   return a.a == b.a || a.a == b.b || a.b == b.a || a.b == b.b;
 }
 
+// Do two occluder edges lie in one plane, exactly or within `tolerance`: the second's ends within
+// it of the plane through the first and the second's end farther from the first's line? Edges of
+// a rotated object that are parallel in its model are so only within rounding once posed; their
+// EEE quadric is then that plane within rounding, and its ranges of valid lines, a rounding wide,
+// are found on some light edges and lost on others (desk-475's turned stool: the top's edge and
+// a panel's above it, 1e-16 out of one plane). Within the tolerance (1e-10 of the scene's size,
+// far below the EEE polylines' 1e-6) they are the coplanar pair's planar events instead.
+bool inOnePlane(const Edge3& first, const Edge3& second, double tolerance) {
+  if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) return true;
+  const Vec3 along = first.b - first.a;
+  const bool aFarther = squaredLength(cross(along, second.a - first.a)) >
+                        squaredLength(cross(along, second.b - first.a));
+  const Vec3 m = cross(along, (aFarther ? second.a : second.b) - first.a);
+  const double norm = length(m);
+  if (norm == 0) return true;
+  const Vec3& other = aFarther ? second.b : second.a;
+  return std::abs(dot(m, other - first.a)) <= tolerance * norm;
+}
+
 bool touchesLight(const std::vector<PolygonId>& polygons, PolygonId light) {
   return std::find(polygons.begin(), polygons.end(), light) != polygons.end();
 }
@@ -556,6 +575,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   const int lightEdges = int(lv.size());
+  const double planeTolerance = kCoplanarEdgeTolerance * scene.extent.diagonalLength();
   const auto inFront = [&](const SceneEdge& e) {
     return lightPolygon.plane.signedDistance(adjacency.position(e.a)) > 0 ||
            lightPolygon.plane.signedDistance(adjacency.position(e.b)) > 0;
@@ -579,7 +599,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     const Edge3 second{adjacency.position(e2.a), adjacency.position(e2.b)};
     // Lines meeting two coplanar edges lie in their plane: that is the occluder-plane event of
     // a polygon holding both, or the coplanar-edge fan (or nothing), not a quadric.
-    if (orientation3d(first.a, first.b, second.a, second.b) == Sign::kZero) {
+    if (inOnePlane(first, second, planeTolerance)) {
       const bool samePolygon =
           std::any_of(e1.polygons.begin(), e1.polygons.end(), [&](PolygonId p) {
             return std::find(e2.polygons.begin(), e2.polygons.end(), p) != e2.polygons.end();
@@ -662,9 +682,10 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
     const SceneEdge& e = edges[id];
     return e.canBeSilhouette && !touchesLight(e.polygons, light) && inFront(e);
   };
+  const double planeTolerance = kCoplanarEdgeTolerance * scene.extent.diagonalLength();
   const auto coplanar = [&](const SceneEdge& a, const SceneEdge& b) {
-    return orientation3d(adjacency.position(a.a), adjacency.position(a.b), adjacency.position(b.a),
-                         adjacency.position(b.b)) == Sign::kZero;
+    return inOnePlane({adjacency.position(a.a), adjacency.position(a.b)},
+                      {adjacency.position(b.a), adjacency.position(b.b)}, planeTolerance);
   };
   struct TripleHash {
     size_t operator()(const std::array<EdgeId, 3>& e) const {

@@ -96,12 +96,17 @@ struct EeeCandidateReuse {
   const UnchangedTopology& unchanged;     // polygons, edges and vertices as they were then
 };
 
+// Two occluder edges within this fraction of the scene's size of one plane count as coplanar (their
+// EEE surfaces are that plane's fans; see inOnePlane in eee_surfaces.cpp).
+inline constexpr double kCoplanarEdgeTolerance = 1e-10;
+
 // Surfaces for every light edge and pair of silhouette-capable occluder edges (not sharing a
 // vertex) that some line meeting all three crosses in front of the light. The pairs come from the
 // emitter EV surfaces of `light` after casting: every range of such lines ends on a line of one of
 // their fans, where the other edge's polygon cuts it.
 // With `coplanar`, the candidate pairs whose two edges are coplanar (their lines meeting the light
-// edge lie in one plane: no quadric) are appended there (coplanarEdgeSurfaces builds their fans).
+// edge lie in one plane: no quadric; within kCoplanarEdgeTolerance) are appended there
+// (coplanarEdgeSurfaces builds their fans).
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,

@@ -447,6 +447,92 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
   return surfaces;
 }
 
+std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
+    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId) {
+  const double reach = 2 * scene.extent.diagonalLength();
+  const WorldPolygon& lightPolygon = scene.polygons[light];
+  const Plane& lightPlane = lightPolygon.plane;
+  const Polygon3& lv = lightPolygon.vertices;
+  // A pair comes once per light edge it was found with; its fans do not depend on the edge.
+  std::vector<std::pair<EdgeId, EdgeId>> unique;
+  for (const CoplanarEdgePair& pair : pairs) unique.push_back(std::minmax(pair.first, pair.second));
+  std::sort(unique.begin(), unique.end());
+  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+  std::vector<DiscontinuitySurface> surfaces;
+  std::vector<char> seen(adjacency.edges().size(), 0);
+  for (const auto& [firstEdge, secondEdge] : unique) {
+    const SceneEdge &first = adjacency.edges()[firstEdge], &second = adjacency.edges()[secondEdge];
+    const auto firstFront = partInFront(adjacency, first, lightPlane);
+    const auto secondFront = partInFront(adjacency, second, lightPlane);
+    if (!firstFront || !secondFront) continue;
+    const auto [a, b] = *firstFront;
+    const auto [c, d] = *secondFront;
+    // The pair's plane, through the first edge and the second's endpoint farther from its line.
+    const Vec3 far =
+        squaredLength(cross(b - a, c - a)) > squaredLength(cross(b - a, d - a)) ? c : d;
+    const Vec3 m = cross(b - a, far - a);
+    if (squaredLength(m) == 0) continue;  // collinear edges: no plane of their own
+    const auto trace = lightTrace(lv, lightPlane.normal, m, a);
+    if (!trace) continue;
+    const auto [t0, t1] = *trace;
+    // The two edges' polygons meet the plane only along the edges' lines, so their other edges
+    // cross it (if at all) at the edges' ends: those events are the non-emitter EV fans.
+    std::vector<PolygonId> touching = first.polygons;
+    touching.insert(touching.end(), second.polygons.begin(), second.polygons.end());
+    // X lies on a line from the trace through both edges: within the bounds of the lines from
+    // the trace through each edge (up to the scene's reach), padded against rounding.
+    const auto swept = [&](const Vec3& p, const Vec3& q) {
+      Box3 box;
+      for (const Vec3& x : {p, q})
+        for (const Vec3& t : {t0, t1}) {
+          box.extend(t);
+          box.extend(x);
+          box.extend(x + normalize(x - t) * reach);
+        }
+      return box;
+    };
+    const Box3 byFirst = swept(a, b), bySecond = swept(c, d);
+    const Vec3 pad = Vec3{1, 1, 1} * (1e-6 * scene.extent.diagonalLength());
+    const Box3 region{componentMax(byFirst.min, bySecond.min) - pad,
+                      componentMin(byFirst.max, bySecond.max) + pad};
+    if (region.isEmpty()) continue;
+    std::fill(seen.begin(), seen.end(), 0);
+    for (PolygonId id : grid.polygonsInBox(region)) {
+      if (id == light || std::count(touching.begin(), touching.end(), id)) continue;
+      adjacency.forEachEdgeOf(id, [&](EdgeId edgeId) {
+        if (seen[size_t(edgeId)]) return;
+        seen[size_t(edgeId)] = 1;
+        const SceneEdge& edge = adjacency.edges()[edgeId];
+        if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) return;
+        const Vec3 p = adjacency.position(edge.a), q = adjacency.position(edge.b);
+        const Sign sp = orientation3d(a, b, far, p), sq = orientation3d(a, b, far, q);
+        if (sp == sq || sp == Sign::kZero || sq == Sign::kZero) return;  // no proper crossing
+        const double dp = dot(m, p - a), dq = dot(m, q - a);
+        const Vec3 x = p + (q - p) * (dp / (dp - dq));
+        if (lightPlane.signedDistance(x) <= 0) return;
+        const auto meetsBoth = [](const std::vector<double>& g) {
+          return g[0] * g[1] <= 0 && g[2] * g[3] <= 0;
+        };
+        for (const auto& [w0, w1] : sideRanges(x, t0, t1, m, {a, b, c, d}, meetsBoth)) {
+          DiscontinuitySurface s;
+          s.id = firstId + SurfaceId(surfaces.size());
+          s.kind = SurfaceKind::kCoplanarEdgesOccluderCrossing;
+          s.light = light;
+          s.lightFeature = -1;
+          s.occluderFeature = edgeId;
+          s.secondFeature = firstEdge;
+          s.hingePolygons = touching;
+          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+          s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, {{a, b}, {c, d}}};
+          surfaces.push_back(std::move(s));
+        }
+      });
+    }
+  }
+  return surfaces;
+}
+
 std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
     const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId) {

@@ -66,6 +66,19 @@ struct CoplanarEdgePair {
 // fan from T through the first edge restricted to the lines that also meet the second
 // (SurfaceKind::kLightEdgeCoplanarEdges); the pairs come from the EEE enumeration, which finds
 // them where it finds the light-edge EEE surfaces (enumerateEeeSurfaces).
+std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
+                                                       const EdgeAdjacency& adjacency,
+                                                       const std::vector<CoplanarEdgePair>& pairs,
+                                                       PolygonId light, SurfaceId firstId);
+
+// For each pair's plane (each pair once, whatever its light edge) that cuts the light, and every
+// other occluder edge crossing that plane at X, the lines of the plane through X that meet the
+// light's trace in the plane and both edges (SurfaceKind::kCoplanarEdgesOccluderCrossing).
+// Candidate edges come from the grid cells around the shaft from the light through the pair.
+std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
+    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId);
+
 // For every light-vertex EV fan (cast: its stored intersections filled) whose occluder edge lies
 // in one plane with a light edge at that vertex, and every point X where another polygon's
 // boundary crosses that plane (the ends of the fan's stored intersections), the lines of the plane
@@ -74,10 +87,5 @@ struct CoplanarEdgePair {
 std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
     const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId);
-
-std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
-                                                       const EdgeAdjacency& adjacency,
-                                                       const std::vector<CoplanarEdgePair>& pairs,
-                                                       PolygonId light, SurfaceId firstId);
 
 }  // namespace penumbra
