@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <set>
 #include <unordered_map>
 
 #include "penumbra/base/check.h"
@@ -37,23 +38,40 @@ SurfaceId horizonSurface(const PosedScene& scene, PolygonId light) {
   return ReceiverMesh::kBoundary - 1 - 2 * SurfaceId(scene.polygons.size()) - light;
 }
 
-// Edges of other polygons lying in the receiver's plane and touching it: contact lines (D0
-// discontinuities), e.g. the footprint of a box resting on the floor.
+// Edges of other polygons lying in the receiver's plane: contact lines (D0 discontinuities), e.g.
+// the footprint of a box resting on the floor (its bottom face, lying on the receiver), or the
+// foot of a card standing on it (one edge of a polygon across the plane: no event surface makes
+// that line, the EV fans through the edge meet the receiver only at their hinge). An edge given by
+// a polygon lying on the receiver is not repeated for the polygons standing on it.
 std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const UniformGrid& grid,
                                                   const WorldPolygon& receiver) {
   std::vector<DiscontinuitySegment> out;
   const double tolerance = 1e-9 * scene.extent.diagonalLength();
+  const auto onPlane = [&](const Vec3& v) {
+    return std::abs(receiver.plane.signedDistance(v)) <= tolerance;
+  };
+  const auto key = [](const Vec3& a, const Vec3& b) {
+    return std::minmax(std::array<double, 3>{a.x, a.y, a.z}, std::array<double, 3>{b.x, b.y, b.z});
+  };
+  std::set<std::pair<std::array<double, 3>, std::array<double, 3>>> lying;
+  std::vector<DiscontinuitySegment> standing;
   for (PolygonId id : grid.polygonsInBox(receiver.bounds.expanded(tolerance))) {
     if (id == receiver.id) continue;
     const WorldPolygon& other = scene.polygons[id];
-    bool coplanar = true;
-    for (const Vec3& v : other.vertices)
-      coplanar = coplanar && std::abs(receiver.plane.signedDistance(v)) <= tolerance;
-    if (!coplanar) continue;
-    for (size_t i = 0; i < other.vertices.size(); ++i)
-      out.push_back({contactSurface(id), receiver.id, other.vertices[i],
-                     other.vertices[(i + 1) % other.vertices.size()], 0, 0});
+    const bool coplanar = std::all_of(other.vertices.begin(), other.vertices.end(), onPlane);
+    for (size_t i = 0; i < other.vertices.size(); ++i) {
+      const Vec3& a = other.vertices[i];
+      const Vec3& b = other.vertices[(i + 1) % other.vertices.size()];
+      if (coplanar) {
+        out.push_back({contactSurface(id), receiver.id, a, b, 0, 0});
+        lying.insert(key(a, b));
+      } else if (onPlane(a) && onPlane(b)) {
+        standing.push_back({contactSurface(id), receiver.id, a, b, 0, 0});
+      }
+    }
   }
+  for (const DiscontinuitySegment& s : standing)
+    if (!lying.count(key(s.p0, s.p1))) out.push_back(s);
   return out;
 }
 

@@ -461,13 +461,16 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
   std::vector<DiscontinuitySurface> surfaces;
   std::vector<char> seen(adjacency.edges().size(), 0);
-  for (const auto& [firstEdge, secondEdge] : unique) {
-    const SceneEdge &first = adjacency.edges()[firstEdge], &second = adjacency.edges()[secondEdge];
+  for (const auto& pair : unique) {
+    const EdgeId firstEdge = pair.first;
+    const SceneEdge &first = adjacency.edges()[pair.first],
+                    &second = adjacency.edges()[pair.second];
     const auto firstFront = partInFront(adjacency, first, lightPlane);
     const auto secondFront = partInFront(adjacency, second, lightPlane);
     if (!firstFront || !secondFront) continue;
-    const auto [a, b] = *firstFront;
-    const auto [c, d] = *secondFront;
+    // Named copies, not structured bindings: the lambdas below capture them (clang 14).
+    const Vec3 a = (*firstFront)[0], b = (*firstFront)[1];
+    const Vec3 c = (*secondFront)[0], d = (*secondFront)[1];
     // The pair's plane, through the first edge and the second's endpoint farther from its line.
     const Vec3 far =
         squaredLength(cross(b - a, c - a)) > squaredLength(cross(b - a, d - a)) ? c : d;
@@ -475,7 +478,7 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     if (squaredLength(m) == 0) continue;  // collinear edges: no plane of their own
     const auto trace = lightTrace(lv, lightPlane.normal, m, a);
     if (!trace) continue;
-    const auto [t0, t1] = *trace;
+    const Vec3 t0 = (*trace)[0], t1 = (*trace)[1];
     // The two edges' polygons meet the plane only along the edges' lines, so their other edges
     // cross it (if at all) at the edges' ends: those events are the non-emitter EV fans.
     std::vector<PolygonId> touching = first.polygons;
