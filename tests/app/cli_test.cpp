@@ -682,6 +682,41 @@ TEST(Cli, ExtremeMagnitudesAreRefusedNamingWhere) {
   EXPECT_NE(probe.output.find("far.txt:2"), std::string::npos) << probe.output;
 }
 
+// The discontinuity mesh works to 1e-12..1e-9 of the scene's size in its own coordinates: a scene
+// lying farther from the origin than 32,768 times its size is refused by the commands that build
+// it (exit 2, naming the file and the figures), and still rendered by the others. Here a room 10.8
+// across (over both frames) moved 1e6 away: 9.3e4 times its size.
+TEST(Cli, SceneTooFarForItsSizeIsRefusedByTheExactShadows) {
+  test::TempDir dir;
+  std::string text = kScene;
+  for (const char* name : {"\"lamp\", ", "\"floor\", "}) {
+    const size_t at = text.find(name);
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at + std::string(name).size(), "\"transform\": { \"translate\": [1e6, 0, 0] }, ");
+  }
+  for (const char* key : {"{ \"frame\": 0 }", "\"translate\": [0, 0, -5]"}) {
+    const size_t at = text.find(key);
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, std::string(key).size(),
+                 key[0] == '{' ? "{ \"frame\": 0, \"translate\": [1e6, 0, 0] }"
+                               : "\"translate\": [1e6, 0, -5]");
+  }
+  const std::string scene = dir.write("far-room.json", text);
+  const std::string points = dir.write("p.txt", "1000000 0 0 0 0 1\n");
+  for (const std::string& command :
+       std::vector<std::string>{"shadows " + scene + " --mode full",
+                                "probe " + scene + " --points " + points + " --method dm"}) {
+    const RunResult r = runPenumbra(command);
+    EXPECT_EQ(r.exitCode, 2) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("far-room.json: the scene lies too far from the origin"),
+              std::string::npos)
+        << r.output;
+  }
+  const RunResult reference =
+      runPenumbra("probe " + scene + " --points " + points + " --method reference");
+  EXPECT_EQ(reference.exitCode, 0) << reference.output;
+}
+
 // A report that cannot be written is a failure (exit 2) naming it, even a small one whose
 // write error a buffered stream kept until after the check.
 TEST(Cli, UnwritableReportFails) {

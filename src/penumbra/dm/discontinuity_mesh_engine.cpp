@@ -4,12 +4,16 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <set>
+#include <string>
 #include <unordered_map>
 
 #include "penumbra/base/check.h"
+#include "penumbra/base/input_error.h"
 #include "penumbra/dm/crossing_occluders.h"
 #include "penumbra/dm/fan_visibility.h"
 #include "penumbra/dm/receiver_plane_events.h"
@@ -91,6 +95,30 @@ DiscontinuitySegment extended(DiscontinuitySegment s, double atStart, double atE
 
 }  // namespace
 
+bool DiscontinuityMeshEngine::resolves(const Box3& extent) {
+  double farthest = 0;
+  for (const Vec3& corner : {extent.min, extent.max})
+    farthest = std::max({farthest, std::abs(corner.x), std::abs(corner.y), std::abs(corner.z)});
+  return farthest <= kMaxDistanceToSize * extent.diagonalLength();
+}
+
+void DiscontinuityMeshEngine::requireResolves(const Box3& extent, const std::string& where) {
+  if (resolves(extent)) return;
+  double farthest = 0;
+  for (const Vec3& corner : {extent.min, extent.max})
+    farthest = std::max({farthest, std::abs(corner.x), std::abs(corner.y), std::abs(corner.z)});
+  const double size = extent.diagonalLength();
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the scene lies too far from the origin for exact soft shadows: a coordinate of "
+                "%g is %.3g times the size of its extent over all frames (%g), so its coordinates "
+                "resolve it only to %.2g of its size, where the discontinuity mesh needs 1e-11; "
+                "move it within %g times its size of the origin",
+                farthest, farthest / size, size,
+                farthest * std::numeric_limits<double>::epsilon() / size, kMaxDistanceToSize);
+  throw InputError(where, text);
+}
+
 DiscontinuityMeshEngine::DiscontinuityMeshEngine(DmOptions options) : options_(options) {}
 DiscontinuityMeshEngine::~DiscontinuityMeshEngine() = default;
 
@@ -105,6 +133,7 @@ void DiscontinuityMeshEngine::build(const PosedScene& posed) {
 }
 
 void DiscontinuityMeshEngine::build(const DynamicScene& scene) {
+  requireResolves(scene.posed().extent, scene.scene().sourcePath);
   posed_ = &scene.posed();
   grid_ = &scene.grid();
   compute(nullptr);

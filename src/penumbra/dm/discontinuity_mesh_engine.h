@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "penumbra/base/rgb.h"
@@ -147,10 +148,23 @@ class DiscontinuityMeshEngine {
   // Faces narrower than about this fraction of the scene's size are slivers, left unverified.
   static constexpr double kSliverSize = 1e-7;
 
+  // The mesh is built in the scene's own coordinates, to tolerances of 1e-12 to 1e-9 of the size
+  // of its extent (every pose's bounds), so its coordinates must resolve that size more finely:
+  // the scene may lie no farther from the origin than this many times its extent's size (where
+  // doubles resolve it to 2^-52 x 2^15 = 7e-12 of its size). The dm_geometry fuzzer's scenes
+  // 4e-6 to 0.6 across, 1 to 1e6 from the origin (2.4e5 to 1.6e11 times their size) were off
+  // by 1e-6 to 3x; nearer, the rounding of the input stays below the engine's tolerances.
+  static constexpr double kMaxDistanceToSize = 32768;
+  // Whether a scene with this extent lies near enough the origin (kMaxDistanceToSize).
+  static bool resolves(const Box3& extent);
+  // Throws InputError (located at `where`, the scene's file) naming the figures when it does not.
+  static void requireResolves(const Box3& extent, const std::string& where);
+
   explicit DiscontinuityMeshEngine(DmOptions options = {});
   ~DiscontinuityMeshEngine();
 
   // Full computation at the current pose of a shared live scene (which must outlive the engine's
+  // use of it; InputError when it lies too far from the origin, requireResolves)
   // use of it: the engine reads its posed scene and grid).
   void build(const DynamicScene& scene);
   // Brings the solution to the scene's new pose after `change` was applied to it (the scene built
