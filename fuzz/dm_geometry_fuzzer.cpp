@@ -105,29 +105,6 @@ bool tolerates(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-// Does p lie on a polygon other than `receiver`, within `tolerance` (of its plane, and of its
-// inside or boundary)?
-bool liesOnAnotherPolygon(const PosedScene& posed, const Vec3& p, std::optional<PolygonId> receiver,
-                          double tolerance) {
-  for (const WorldPolygon& polygon : posed.polygons) {
-    if (receiver && polygon.id == *receiver) continue;
-    if (!(std::abs(polygon.plane.signedDistance(p)) <= tolerance)) continue;
-    const PlaneFrame frame = PlaneFrame::fromPlane(polygon.plane, polygon.vertices[0]);
-    Polygon2 flat;
-    for (const Vec3& corner : polygon.vertices) flat.push_back(frame.toLocal(corner));
-    const Vec2 q = frame.toLocal(p);
-    if (containsPoint(flat, q)) return true;
-    for (size_t i = 0; i < flat.size(); ++i) {
-      const Vec2 a = flat[i], b = flat[(i + 1) % flat.size()];
-      const Vec2 ab = b - a, aq = q - a;
-      const double t = std::clamp(dot(aq, ab) / dot(ab, ab), 0.0, 1.0);
-      const Vec2 gap = aq - ab * t;
-      if (std::sqrt(dot(gap, gap)) <= tolerance) return true;
-    }
-  }
-  return false;
-}
-
 // The distance from p to the nearest polygon other than `receiver` (its inside or boundary).
 double distanceToAnotherPolygon(const PosedScene& posed, const Vec3& p,
                                 std::optional<PolygonId> receiver) {
@@ -150,6 +127,12 @@ double distanceToAnotherPolygon(const PosedScene& posed, const Vec3& p,
     nearest = std::min(nearest, std::hypot(offPlane, inPlane));
   }
   return nearest;
+}
+
+// Does p lie on a polygon other than `receiver`, within `tolerance`?
+bool liesOnAnotherPolygon(const PosedScene& posed, const Vec3& p, std::optional<PolygonId> receiver,
+                          double tolerance) {
+  return distanceToAnotherPolygon(posed, p, receiver) <= tolerance;
 }
 
 std::string shortText(double value) {
