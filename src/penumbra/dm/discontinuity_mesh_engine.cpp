@@ -54,8 +54,11 @@ std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const
   const auto onPlane = [&](const Vec3& v) {
     return std::abs(receiver.plane.signedDistance(v)) <= tolerance;
   };
+  // By value: std::minmax of temporaries returns references to them.
   const auto key = [](const Vec3& a, const Vec3& b) {
-    return std::minmax(std::array<double, 3>{a.x, a.y, a.z}, std::array<double, 3>{b.x, b.y, b.z});
+    std::array<double, 3> p{a.x, a.y, a.z}, q{b.x, b.y, b.z};
+    if (q < p) std::swap(p, q);
+    return std::pair{p, q};
   };
   std::set<std::pair<std::array<double, 3>, std::array<double, 3>>> lying;
   std::vector<DiscontinuitySegment> standing;
