@@ -107,7 +107,13 @@ std::vector<Vec2> editOutline(FuzzInput& in, std::vector<Vec2> outline, double s
     const int edit = in.integer(0, 7);
     if (edit == 7) {  // nudged off its place by a rounding-sized amount
       const double nudge = in.pick({1e-15, 1e-12, 1e-9}) * size;
-      (in.flag() ? p.x : p.y) += in.flag() ? nudge : -nudge;
+      // Bytes read one statement at a time: the order of a call's arguments (or of an
+      // expression's operands) is the compiler's, and an input must make the same scene in the
+      // clang fuzz build and the GCC replays (it did not: session 15). Here C++17's order for
+      // `a += b` (b first), as before.
+      const bool up = in.flag();
+      const bool alongX = in.flag();
+      (alongX ? p.x : p.y) += up ? nudge : -nudge;
     }
     edited.push_back(p);
     if (edit == 5 && room > 0) edited.push_back(p);  // repeated corner
@@ -178,8 +184,9 @@ Polygon3 makeOccluder(FuzzInput& in, const std::vector<Polygon3>& previous,
       rest = true;
       break;
     }
-    case 2: {  // any plane
-      frame = frameWithNormal({centre.x, centre.y, in.between(0.05, 1.95)}, unitVector(in));
+    case 2: {                                        // any plane
+      const double height = in.between(0.05, 1.95);  // first, as clang read the arguments
+      frame = frameWithNormal({centre.x, centre.y, height}, unitVector(in));
       rest = in.integer(0, 3) == 0;
       break;
     }
@@ -188,7 +195,9 @@ Polygon3 makeOccluder(FuzzInput& in, const std::vector<Polygon3>& previous,
         frame = {centre, {1, 0, 0}, {0, 1, 0}};
       } else {
         frame = frames[in.byte() % frames.size()];
-        frame.origin = frame.at(in.between(-1, 1) * size, in.between(-1, 1) * size);
+        const double u = in.between(-1, 1) * size;  // u before v, as clang read them
+        const double v = in.between(-1, 1) * size;
+        frame.origin = frame.at(u, v);
       }
       break;
     }
