@@ -99,3 +99,21 @@ TEST(ZzDebug, Point) {
     for (auto& seg : engine.meshInputs(r.id)) std::printf(" seg s%d (%.17g %.17g)-(%.17g %.17g)\n", seg.surface, seg.p0.x, seg.p0.y, seg.p1.x, seg.p1.y);
   }
 }
+TEST(ZzDebug, Surfaces) {
+  DiscontinuityMeshEngine engine;
+  engine.build(loadScene(std::getenv("ZZ_ABS")), 0);
+  const PosedScene& s = engine.posedScene();
+  const EdgeAdjacency& adj = engine.adjacency();
+  const int poly = std::atoi(std::getenv("ZZ_POLY")), corner = std::atoi(std::getenv("ZZ_CORNER"));
+  const auto& vs = adj.polygonVertices(poly);
+  const EdgeId e = adj.edgeBetween(vs[corner], vs[(corner + 1) % vs.size()]);
+  std::printf("edge %d: (%.17g %.17g %.17g)-(%.17g %.17g %.17g) sil %d polys", e, adj.position(adj.edges()[e].a).x, adj.position(adj.edges()[e].a).y, adj.position(adj.edges()[e].a).z, adj.position(adj.edges()[e].b).x, adj.position(adj.edges()[e].b).y, adj.position(adj.edges()[e].b).z, adj.edges()[e].canBeSilhouette);
+  for (auto p : adj.edges()[e].polygons) std::printf(" %d", p);
+  std::printf("\n");
+  for (const DiscontinuitySurface& d : engine.surfaces()) {
+    if (d.occluderFeature != e || d.kind != SurfaceKind::kEmitterVertexOccluderEdge) continue;
+    std::printf("surface %d kind %d lightFeature %d hinge (%.17g %.17g %.17g)-(%.17g %.17g %.17g)\n", d.id, int(d.kind), d.lightFeature, d.fan.hinge0.x, d.fan.hinge0.y, d.fan.hinge0.z, d.fan.hinge1.x, d.fan.hinge1.y, d.fan.hinge1.z);
+    for (auto& x : d.intersections) std::printf("   cut poly %d (%.17g %.17g %.17g)-(%.17g %.17g %.17g)\n", x.polygon, x.p0.x, x.p0.y, x.p0.z, x.p1.x, x.p1.y, x.p1.z);
+    for (const WorldPolygon& r : s.polygons) if (engine.meshOf(r.id)) for (auto& seg : engine.meshInputs(r.id)) if (seg.surface == d.id) std::printf("   seg on %d (%.17g %.17g)-(%.17g %.17g)\n", r.id, seg.p0.x, seg.p0.y, seg.p1.x, seg.p1.y);
+  }
+}
