@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -42,11 +43,12 @@ SurfaceId horizonSurface(const PosedScene& scene, PolygonId light) {
   return ReceiverMesh::kBoundary - 1 - 2 * SurfaceId(scene.polygons.size()) - light;
 }
 
-// Edges of other polygons lying in the receiver's plane: contact lines (D0 discontinuities), e.g.
-// the footprint of a box resting on the floor (its bottom face, lying on the receiver), or the
-// foot of a card standing on it (one edge of a polygon across the plane: no event surface makes
-// that line, the EV fans through the edge meet the receiver only at their hinge). An edge given by
-// a polygon lying on the receiver is not repeated for the polygons standing on it.
+// Where other polygons meet the receiver's plane: contact lines (D0 discontinuities), e.g. the
+// footprint of a box resting on the floor (its bottom face, lying on the receiver), the foot of a
+// card standing on it (one edge of a polygon across the plane), or the trace of a polygon passing
+// through it. No event surface makes the last two (the EV fans through the edge meet the
+// receiver only at their hinge). An edge given by a polygon lying on the receiver is not repeated
+// for the polygons standing on it.
 std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const UniformGrid& grid,
                                                   const WorldPolygon& receiver) {
   std::vector<DiscontinuitySegment> out;
@@ -66,6 +68,35 @@ std::vector<DiscontinuitySegment> contactSegments(const PosedScene& scene, const
     if (id == receiver.id) continue;
     const WorldPolygon& other = scene.polygons[id];
     const bool coplanar = std::all_of(other.vertices.begin(), other.vertices.end(), onPlane);
+    // A polygon through the receiver (vertices beyond the tolerance on both sides) meets it along
+    // its trace, from the first point where its boundary meets the plane to the last (the hull of
+    // a non-convex polygon's pieces: an extra line only refines the mesh).
+    bool above = false, below = false;
+    for (const Vec3& v : other.vertices) {
+      const double d = receiver.plane.signedDistance(v);
+      above = above || d > tolerance;
+      below = below || d < -tolerance;
+    }
+    if (above && below) {
+      const Vec3 along = cross(receiver.plane.normal, other.plane.normal);
+      std::optional<Vec3> first, last;
+      for (size_t i = 0; i < other.vertices.size(); ++i) {
+        const Vec3& a = other.vertices[i];
+        const Vec3& b = other.vertices[(i + 1) % other.vertices.size()];
+        const double da = receiver.plane.signedDistance(a), db = receiver.plane.signedDistance(b);
+        std::optional<Vec3> meet;
+        if (std::abs(da) <= tolerance)
+          meet = a;
+        else if ((da > tolerance && db < -tolerance) || (da < -tolerance && db > tolerance))
+          meet = a + (b - a) * (da / (da - db));
+        if (!meet) continue;
+        if (!first || dot(*meet, along) < dot(*first, along)) first = meet;
+        if (!last || dot(*meet, along) > dot(*last, along)) last = meet;
+      }
+      if (first && last && !(*first == *last))
+        out.push_back({contactSurface(id), receiver.id, *first, *last, 0, 0});
+      continue;
+    }
     for (size_t i = 0; i < other.vertices.size(); ++i) {
       const Vec3& a = other.vertices[i];
       const Vec3& b = other.vertices[(i + 1) % other.vertices.size()];

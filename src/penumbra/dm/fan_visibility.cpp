@@ -60,19 +60,31 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
       if (u > 0 && u < 1) breaks.push_back(u);
     }
   }
+  // The critical line through the crossing of segments ab and cd (in the fan plane), if they
+  // cross strictly inside both.
+  const auto breakAtCrossing = [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    const double den = dot(n, cross(b - a, d - c));
+    if (den == 0) return;
+    const double t = dot(n, cross(c - a, d - c)) / den;
+    const double w = dot(n, cross(c - a, b - a)) / den;
+    if (t <= 0 || t >= 1 || w <= 0 || w >= 1) return;
+    const double u = fan.criticalParameter(a + (b - a) * t);
+    if (u > 0 && u < 1) breaks.push_back(u);
+  };
   // Crossings of two stored segments change the depth order.
-  for (size_t i = 0; i < records.size(); ++i) {
-    for (size_t j = i + 1; j < records.size(); ++j) {
-      const Vec3 a = records[i]->p0, b = records[i]->p1, c = records[j]->p0, d = records[j]->p1;
-      const double den = dot(n, cross(b - a, d - c));
-      if (den == 0) continue;
-      const double t = dot(n, cross(c - a, d - c)) / den;
-      const double w = dot(n, cross(c - a, b - a)) / den;
-      if (t <= 0 || t >= 1 || w <= 0 || w >= 1) continue;
-      const double u = fan.criticalParameter(a + (b - a) * t);
-      if (u > 0 && u < 1) breaks.push_back(u);
-    }
-  }
+  for (size_t i = 0; i < records.size(); ++i)
+    for (size_t j = i + 1; j < records.size(); ++j)
+      breakAtCrossing(records[i]->p0, records[i]->p1, records[j]->p0, records[j]->p1);
+  // So do crossings of a stored segment with the hinge (a polygon the hinge edge passes through:
+  // on one side the lines meet it beyond the hinge, on the other before it, where it hides the
+  // event) and with the contacts where the event begins (a fan's lines meet it before the farthest
+  // contact on one side, after it on the other). Without them an occluder's edge crossing the
+  // floor lost its whole event there: the interval from the edge's upper end to the stored
+  // segment's far end was judged by its middle, below the floor.
+  std::vector<std::pair<Vec3, Vec3>> starts = fan.contacts;
+  if (!(fan.hinge0 == fan.hinge1)) starts.push_back({fan.hinge0, fan.hinge1});
+  for (const SurfaceIntersection* r : records)
+    for (const auto& [c, d] : starts) breakAtCrossing(r->p0, r->p1, c, d);
   std::sort(breaks.begin(), breaks.end());
   // Breakpoints closer than rounding are one breakpoint (they bound no critical line of their own).
   breaks.erase(
