@@ -86,7 +86,7 @@ TEST(ZzDebug, Point) {
   BackprojectionBuilder builder(s, reference);
   for (const WorldPolygon& r : s.polygons) {
     const ReceiverMesh* m = engine.meshOf(r.id);
-    if (!m || std::abs(r.plane.signedDistance(p)) > 1e-12) continue;
+    if (!m || std::abs(r.plane.signedDistance(p)) > (std::getenv("ZZ_TOL") ? std::atof(std::getenv("ZZ_TOL")) : 1e-12)) continue;
     auto f = m->locate(r.plane.project(p));
     if (!f) continue;
     std::printf("receiver %d face %d unresolved %d atpoint %d\n", r.id, *f, engine.isUnresolved(r.id, *f), engine.isAnsweredAtPoint(r.id, *f));
