@@ -1085,11 +1085,16 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
                                                                              const Vec3& n) const {
   // A point on the edge shared by coplanar receivers (a triangulated quad's diagonal) lies on
   // each within rounding, and in the faces of one only: the first whose mesh holds it answers.
+  // Only those coplanar with the nearest: another plane through the point within the locator's
+  // tolerance is another receiver, whose value is not the point's (a needle of a polygon dipping
+  // 7e-13 below the floor answered with the floor's light: the dm_geometry fuzzer).
   const std::vector<ReceiverMatch> matches = locateReceivers(*posed_, *grid_, p, n);
   if (matches.empty()) return std::nullopt;
   const ReceiverMatch* match = &matches.front();
+  const Vec3& nearestNormal = posed_->polygons[match->polygon].plane.normal;
   std::optional<int> face;
   for (const ReceiverMatch& m : matches) {
+    if (dot(posed_->polygons[m.polygon].plane.normal, nearestNormal) < 1 - 1e-9) continue;
     const auto meshed = receivers_.find(m.polygon);
     if (meshed == receivers_.end()) continue;
     face = meshed->second.mesh.locate(posed_->polygons[m.polygon].plane.project(p));
