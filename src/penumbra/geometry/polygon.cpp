@@ -1,5 +1,6 @@
 #include "penumbra/geometry/polygon.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <tuple>
@@ -163,6 +164,52 @@ std::string describe(const Vec3& p) {
   return out.str();
 }
 
+// Polygons of more vertices than this are checked for simplicity by a sweep over their edges'
+// x-intervals instead of every pair of edges, and their size is their bounding box's diagonal.
+constexpr size_t kPairwiseVertices = 1024;
+
+// The simplicity check of findPolygonDefect for a polygon of many vertices: each edge against the
+// following one (folding back), and against the edges whose bounding boxes overlap its own, found
+// by a sweep over the edges sorted by their least x (exact: the boxes are compared as doubles,
+// the candidates tested with exact predicates). Near-linear for the outlines of tessellated
+// solids and terrain; still quadratic where most edges overlap in x (a star of long spikes).
+std::optional<std::string> largePolygonDefect(const Polygon3& polygon, const Polygon2& flat) {
+  const size_t n = flat.size();
+  for (size_t i = 0; i < n; ++i) {
+    const size_t j = (i + 1) % n;
+    const Vec2 &p = flat[i], &shared = flat[j], &q = flat[(j + 1) % n];
+    if (orientation2d(p, shared, q) == Sign::kZero && dot(p - shared, q - shared) > 0)
+      return "self-overlapping polygon: edges " + std::to_string(std::min(i, j)) + " and " +
+             std::to_string(std::max(i, j)) + " fold back at " + describe(polygon[j]);
+  }
+  struct Extent {
+    double minX, maxX, minY, maxY;
+    size_t edge;
+  };
+  std::vector<Extent> edges(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 &a = flat[i], &b = flat[(i + 1) % n];
+    edges[i] = {std::min(a.x, b.x), std::max(a.x, b.x), std::min(a.y, b.y), std::max(a.y, b.y), i};
+  }
+  std::sort(edges.begin(), edges.end(), [](const Extent& a, const Extent& b) {
+    return a.minX < b.minX || (a.minX == b.minX && a.edge < b.edge);
+  });
+  std::vector<const Extent*> active;
+  for (const Extent& e : edges) {
+    std::erase_if(active, [&](const Extent* other) { return other->maxX < e.minX; });
+    for (const Extent* other : active) {
+      if (other->maxY < e.minY || e.maxY < other->minY) continue;
+      const size_t i = std::min(e.edge, other->edge), j = std::max(e.edge, other->edge);
+      if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // adjacent: checked above
+      if (segmentsIntersect(flat[i], flat[(i + 1) % n], flat[j], flat[(j + 1) % n]))
+        return "self-intersecting polygon: edge " + std::to_string(i) + " meets edge " +
+               std::to_string(j);
+    }
+    active.push_back(&e);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<std::string> findPolygonDefect(const Polygon3& input,
@@ -172,7 +219,11 @@ std::optional<std::string> findPolygonDefect(const Polygon3& input,
   const Polygon3 polygon = withoutRepeatedVertices(input);
   if (polygon.size() < 3)
     return "fewer than 3 distinct vertices (" + std::to_string(polygon.size()) + ")";
-  const double size = diameter(polygon);
+  // The size that scales the tolerances: the diameter, or for a polygon of many vertices (a
+  // finely tessellated disc) its bounding box's diagonal (within sqrt(3) of it): the diameter
+  // takes a pass over every pair of vertices, 60 s for 100,000 of them.
+  const double size = polygon.size() <= kPairwiseVertices ? diameter(polygon)
+                                                          : boundingBox(polygon).diagonalLength();
   const double vectorArea = length(newellNormal(polygon)) / 2;
   if (!(vectorArea > 1e-12 * size * size)) return "degenerate polygon: zero area";
   const double deviation = planarityDeviation(polygon);
@@ -188,6 +239,7 @@ std::optional<std::string> findPolygonDefect(const Polygon3& input,
   Polygon2 flat;
   for (const Vec3& p : polygon) flat.push_back(frame.toLocal(p));
   const size_t n = flat.size();
+  if (n > kPairwiseVertices) return largePolygonDefect(polygon, flat);
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = i + 1; j < n; ++j) {
       const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
