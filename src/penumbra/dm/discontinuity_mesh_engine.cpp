@@ -129,19 +129,25 @@ DiscontinuitySegment extended(DiscontinuitySegment s, double atStart, double atE
 
 }  // namespace
 
-bool DiscontinuityMeshEngine::resolves(const Box3& extent) {
+namespace {
+
+// The largest magnitude of a coordinate in the box.
+double farthestCoordinate(const Box3& box) {
   double farthest = 0;
-  for (const Vec3& corner : {extent.min, extent.max})
+  for (const Vec3& corner : {box.min, box.max})
     farthest = std::max({farthest, std::abs(corner.x), std::abs(corner.y), std::abs(corner.z)});
-  return farthest <= kMaxDistanceToSize * extent.diagonalLength();
+  return farthest;
+}
+
+}  // namespace
+
+bool DiscontinuityMeshEngine::resolves(const Box3& extent) {
+  return farthestCoordinate(extent) <= kMaxDistanceToSize * extent.diagonalLength();
 }
 
 void DiscontinuityMeshEngine::requireResolves(const Box3& extent, const std::string& where) {
   if (resolves(extent)) return;
-  double farthest = 0;
-  for (const Vec3& corner : {extent.min, extent.max})
-    farthest = std::max({farthest, std::abs(corner.x), std::abs(corner.y), std::abs(corner.z)});
-  const double size = extent.diagonalLength();
+  const double farthest = farthestCoordinate(extent), size = extent.diagonalLength();
   char text[400];
   std::snprintf(text, sizeof text,
                 "the scene lies too far from the origin for exact soft shadows: a coordinate of "
