@@ -491,7 +491,7 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
         for (const Vec3& t : {t0, t1}) {
           box.extend(t);
           box.extend(x);
-          box.extend(x + normalize(x - t) * reach);
+          if (!(x == t)) box.extend(x + normalize(x - t) * reach);  // an end on the light plane
         }
       return box;
     };
