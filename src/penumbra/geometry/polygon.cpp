@@ -164,6 +164,11 @@ std::string describe(const Vec3& p) {
   return out.str();
 }
 
+// Do consecutive edges p-shared and shared-q fold back onto each other (collinear, overlapping)?
+bool foldsBack(const Vec2& p, const Vec2& shared, const Vec2& q) {
+  return orientation2d(p, shared, q) == Sign::kZero && dot(p - shared, q - shared) > 0;
+}
+
 // Polygons of more vertices than this are checked for simplicity by a sweep over their edges'
 // x-intervals instead of every pair of edges, and their size is their bounding box's diagonal.
 constexpr size_t kPairwiseVertices = 1024;
@@ -177,8 +182,7 @@ std::optional<std::string> largePolygonDefect(const Polygon3& polygon, const Pol
   const size_t n = flat.size();
   for (size_t i = 0; i < n; ++i) {
     const size_t j = (i + 1) % n;
-    const Vec2 &p = flat[i], &shared = flat[j], &q = flat[(j + 1) % n];
-    if (orientation2d(p, shared, q) == Sign::kZero && dot(p - shared, q - shared) > 0)
+    if (foldsBack(flat[i], flat[j], flat[(j + 1) % n]))
       return "self-overlapping polygon: edges " + std::to_string(std::min(i, j)) + " and " +
              std::to_string(std::max(i, j)) + " fold back at " + describe(polygon[j]);
   }
@@ -253,7 +257,7 @@ std::optional<std::string> findPolygonDefect(const Polygon3& input,
         const Vec2& shared = (j == i + 1) ? b : a;
         const Vec2& p = (j == i + 1) ? a : b;
         const Vec2& q = (j == i + 1) ? d : c;
-        if (orientation2d(p, shared, q) == Sign::kZero && dot(p - shared, q - shared) > 0)
+        if (foldsBack(p, shared, q))
           return "self-overlapping polygon: edges " + std::to_string(i) + " and " +
                  std::to_string(j) + " fold back at " + describe(polygon[(j == i + 1) ? j : i]);
       }
