@@ -22,12 +22,16 @@ struct NodeRef {
   bool operator==(const NodeRef&) const = default;
 };
 
-struct Cluster {
+// A cluster's place in the hierarchy, shared by the solvers (each keeps its radiometry beside it).
+struct ClusterNode {
   Box3 bounds;
   double area = 0;                // total area of the element surfaces inside
   std::vector<NodeRef> children;  // sub-clusters and root elements
-  int elementBegin = 0;           // root elements inside: solver's rootOrder[begin, end)
+  int elementBegin = 0;           // root elements inside: rootOrder[begin, end)
   int elementEnd = 0;
+};
+
+struct Cluster : ClusterNode {
   NodeRadiometry radiometry;
 };
 

@@ -22,13 +22,13 @@ double elementArea(const std::array<Vec3, 4>& v, int count) {
   return a;
 }
 
-Box3 Element::bounds() const {
+Box3 ElementShape::bounds() const {
   Box3 b;
   for (int i = 0; i < vertexCount; ++i) b.extend(vertices[i]);
   return b;
 }
 
-Vec3 Element::centroid() const {
+Vec3 ElementShape::centroid() const {
   if (vertexCount == 3) return (vertices[0] + vertices[1] + vertices[2]) / 3.0;
   const double a0 = triangleArea(vertices[0], vertices[1], vertices[2]);
   const double a1 = triangleArea(vertices[0], vertices[2], vertices[3]);
@@ -37,11 +37,11 @@ Vec3 Element::centroid() const {
   return a0 + a1 > 0 ? (c0 * a0 + c1 * a1) / (a0 + a1) : c0;
 }
 
-std::array<std::array<Vec3, 4>, 16> Element::grandchildCells() const {
+std::array<std::array<Vec3, 4>, 16> ElementShape::grandchildCells() const {
   std::array<std::array<Vec3, 4>, 16> cells{};
   int k = 0;
   for (const auto& loop : childVertices()) {
-    Element child;
+    ElementShape child;
     child.vertices = loop;
     child.vertexCount = vertexCount;
     for (const auto& subLoop : child.childVertices()) cells[k++] = subLoop;
@@ -49,7 +49,7 @@ std::array<std::array<Vec3, 4>, 16> Element::grandchildCells() const {
   return cells;
 }
 
-std::array<Vec3, 16> Element::grandchildCentres() const {
+std::array<Vec3, 16> ElementShape::grandchildCentres() const {
   std::array<Vec3, 16> centres{};
   const auto cells = grandchildCells();
   for (int k = 0; k < 16; ++k) {
@@ -60,7 +60,7 @@ std::array<Vec3, 16> Element::grandchildCentres() const {
   return centres;
 }
 
-std::array<std::array<Vec3, 4>, 4> Element::childVertices() const {
+std::array<std::array<Vec3, 4>, 4> ElementShape::childVertices() const {
   const auto& v = vertices;
   std::array<std::array<Vec3, 4>, 4> c{};
   if (vertexCount == 3) {
@@ -81,7 +81,7 @@ std::array<std::array<Vec3, 4>, 4> Element::childVertices() const {
   return c;
 }
 
-Vec3 Element::samplePoint(double u, double v) const {
+Vec3 ElementShape::samplePoint(double u, double v) const {
   if (vertexCount == 3) return uniformInTriangle(vertices[0], vertices[1], vertices[2], u, v);
   const double a0 = triangleArea(vertices[0], vertices[1], vertices[2]);
   const double a1 = triangleArea(vertices[0], vertices[2], vertices[3]);
@@ -90,7 +90,7 @@ Vec3 Element::samplePoint(double u, double v) const {
   return uniformInTriangle(vertices[0], vertices[2], vertices[3], (u - split) / (1 - split), v);
 }
 
-int Element::childContaining(const Vec3& p) const {
+int ElementShape::childContaining(const Vec3& p) const {
   const auto& v = vertices;
   // Is p on the same side of the line (a, b) as q?
   const auto sameSide = [&](const Vec3& a, const Vec3& b, const Vec3& q) {
@@ -111,7 +111,7 @@ int Element::childContaining(const Vec3& p) const {
   return nearV0V1 ? (nearV0V3 ? 0 : 1) : (nearV0V3 ? 3 : 2);
 }
 
-double Element::insideness(const Vec3& p) const {
+double ElementShape::insideness(const Vec3& p) const {
   double smallest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < vertexCount; ++i) {
     const Vec3& a = vertices[i];

@@ -33,19 +33,13 @@ struct NodeRadiometry {
   double minRadiosity = 0;  // smallest leaf radiosity component below
 };
 
-struct Element {
+// The shape of a quadtree node: a triangle or a convex quadrilateral in its polygon's plane, and
+// how it splits. Shared by the solvers (each keeps its own radiometry beside it).
+struct ElementShape {
   std::array<Vec3, 4> vertices{};  // counter-clockwise seen from the front
   std::uint8_t vertexCount = 0;    // 3 or 4
-  std::uint8_t depth = 0;          // 0 for the root elements of a polygon
-  PolygonId polygon = 0;
-  int parent = -1;      // element index, -1 for a root element
-  int firstChild = -1;  // four consecutive elements, -1 for a leaf
-  Vec3 normal;          // unit front normal (the polygon's)
-  double area = 0;
-  Rgb reflectance;
-  NodeRadiometry radiometry;
+  Vec3 normal;                     // unit front normal (the polygon's)
 
-  bool isLeaf() const { return firstChild < 0; }
   Box3 bounds() const;
   Vec3 centroid() const;
   // The four children's vertex loops, tiling this element.
@@ -63,6 +57,18 @@ struct Element {
   // sign tests against the lines between edge midpoints, which split the element into exactly
   // those children (a point on such a line goes to either side).
   int childContaining(const Vec3& p) const;
+};
+
+struct Element : ElementShape {
+  std::uint8_t depth = 0;  // 0 for the root elements of a polygon
+  PolygonId polygon = 0;
+  int parent = -1;      // element index, -1 for a root element
+  int firstChild = -1;  // four consecutive elements, -1 for a leaf
+  double area = 0;
+  Rgb reflectance;
+  NodeRadiometry radiometry;
+
+  bool isLeaf() const { return firstChild < 0; }
 };
 
 double elementArea(const std::array<Vec3, 4>& vertices, int count);

@@ -1,7 +1,7 @@
 // The hierarchy: element quadtree roots from the input polygons (Hanrahan, Salzman & Aupperle
 // 1991) and the volume cluster hierarchy above them (Sillion 1995; Smits, Arvo & Greenberg 1994).
 
-#include "penumbra/radiosity/radiosity_solver.h"
+#include "penumbra/radiosity/hierarchy_building.h"
 
 #include <algorithm>
 
@@ -23,10 +23,12 @@ bool isConvexQuad(const Polygon3& q, const Vec3& normal) {
 
 }  // namespace
 
-void RadiositySolver::buildElements() {
-  polygonRoots_.assign(scene_.polygons.size(), {});
-  for (const WorldPolygon& polygon : scene_.polygons) {
-    const Material& material = scene_.materialOf(polygon);
+std::vector<Element> rootElements(const PosedScene& scene,
+                                  std::vector<std::vector<int>>& polygonRoots) {
+  std::vector<Element> elements;
+  polygonRoots.assign(scene.polygons.size(), {});
+  for (const WorldPolygon& polygon : scene.polygons) {
+    const Material& material = scene.materialOf(polygon);
     const Polygon3 loop = withoutRepeatedVertices(polygon.vertices);
     if (loop.size() < 3 || polygon.area <= 0) continue;
     std::vector<std::array<Vec3, 4>> pieces;
@@ -52,23 +54,34 @@ void RadiositySolver::buildElements() {
       if (e.area <= 0) continue;
       e.reflectance = material.reflectance;
       e.radiometry.emission = material.emission;
-      polygonRoots_[polygon.id].push_back(int(elements_.size()));
-      elements_.push_back(e);
+      polygonRoots[polygon.id].push_back(int(elements.size()));
+      elements.push_back(e);
     }
   }
+  return elements;
 }
+
+namespace {
 
 // Volume clustering (Sillion 1995): the box of the element centroids is cut into octants
 // recursively; an octant with one element contributes that element directly.
-int RadiositySolver::buildCluster(int begin, int end, int depth) {
-  const int index = int(clusters_.size());
-  clusters_.emplace_back();
-  Cluster cluster;
+struct ClusterBuilder {
+  const std::vector<Element>& elements;
+  ClusterHierarchy& out;
+  int build(int begin, int end, int depth);
+};
+
+int ClusterBuilder::build(int begin, int end, int depth) {
+  std::vector<ClusterNode>& clusters = out.clusters;
+  std::vector<int>& order = out.rootOrder;
+  const int index = int(clusters.size());
+  clusters.emplace_back();
+  ClusterNode cluster;
   cluster.elementBegin = begin;
   cluster.elementEnd = end;
   Box3 centroids;
   for (int i = begin; i < end; ++i) {
-    const Element& e = elements_[rootOrder_[i]];
+    const Element& e = elements[order[i]];
     cluster.bounds.extend(e.bounds());
     cluster.area += e.area;
     centroids.extend(e.centroid());
@@ -77,31 +90,42 @@ int RadiositySolver::buildCluster(int begin, int end, int depth) {
                        centroids.diagonalLength() == 0;
   if (isSmall) {
     for (int i = begin; i < end; ++i)
-      cluster.children.push_back({NodeRef::kElement, rootOrder_[i]});
+      cluster.children.push_back({NodeRef::kElement, order[i]});
   } else {
     const Vec3 mid = centroids.center();
     const auto octant = [&](int element) {
-      const Vec3 c = elements_[element].centroid();
+      const Vec3 c = elements[element].centroid();
       return (c.x > mid.x ? 1 : 0) | (c.y > mid.y ? 2 : 0) | (c.z > mid.z ? 4 : 0);
     };
-    std::stable_sort(rootOrder_.begin() + begin, rootOrder_.begin() + end,
+    std::stable_sort(order.begin() + begin, order.begin() + end,
                      [&](int a, int b) { return octant(a) < octant(b); });
     int first = begin;
     while (first < end) {
       int last = first + 1;
-      while (last < end && octant(rootOrder_[last]) == octant(rootOrder_[first])) ++last;
+      while (last < end && octant(order[last]) == octant(order[first])) ++last;
       if (last - first == 1)
-        cluster.children.push_back({NodeRef::kElement, rootOrder_[first]});
+        cluster.children.push_back({NodeRef::kElement, order[first]});
       else if (first == begin && last == end)  // one octant holds all: stop here
         for (int i = begin; i < end; ++i)
-          cluster.children.push_back({NodeRef::kElement, rootOrder_[i]});
+          cluster.children.push_back({NodeRef::kElement, order[i]});
       else
-        cluster.children.push_back({NodeRef::kCluster, buildCluster(first, last, depth + 1)});
+        cluster.children.push_back({NodeRef::kCluster, build(first, last, depth + 1)});
       first = last;
     }
   }
-  clusters_[index] = std::move(cluster);
+  clusters[index] = std::move(cluster);
   return index;
+}
+
+}  // namespace
+
+ClusterHierarchy buildClusterHierarchy(const std::vector<Element>& roots) {
+  ClusterHierarchy hierarchy;
+  hierarchy.rootOrder.resize(roots.size());
+  for (size_t i = 0; i < roots.size(); ++i) hierarchy.rootOrder[i] = int(i);
+  hierarchy.clusters.reserve(roots.size());
+  ClusterBuilder{roots, hierarchy}.build(0, int(roots.size()), 0);
+  return hierarchy;
 }
 
 }  // namespace penumbra

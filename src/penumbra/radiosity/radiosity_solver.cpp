@@ -22,6 +22,7 @@
 #include "penumbra/base/check.h"
 #include "penumbra/base/input_error.h"
 #include "penumbra/lighting/exact_reference.h"
+#include "penumbra/radiosity/hierarchy_building.h"
 #include "penumbra/scene/closedness.h"
 #include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/ray_caster.h"
@@ -103,13 +104,14 @@ void RadiositySolver::build(const DynamicScene& scene) {
 void RadiositySolver::compute() {
   const auto start = std::chrono::steady_clock::now();
   visibleParts_ = std::make_unique<ExactReference>(scene_, grid_);
-  buildElements();
+  elements_ = rootElements(scene_, polygonRoots_);
   findContacts();
   CHECK(!elements_.empty());
-  rootOrder_.resize(elements_.size());
-  for (size_t i = 0; i < elements_.size(); ++i) rootOrder_[i] = int(i);
-  clusters_.reserve(elements_.size());
-  buildCluster(0, int(rootOrder_.size()), 0);
+  ClusterHierarchy hierarchy = buildClusterHierarchy(elements_);
+  rootOrder_ = std::move(hierarchy.rootOrder);
+  clusters_.resize(hierarchy.clusters.size());
+  for (size_t i = 0; i < clusters_.size(); ++i)
+    static_cast<ClusterNode&>(clusters_[i]) = std::move(hierarchy.clusters[i]);
   rootCumulativeArea_.assign(rootOrder_.size() + 1, 0);
   for (size_t i = 0; i < rootOrder_.size(); ++i)
     rootCumulativeArea_[i + 1] = rootCumulativeArea_[i] + elements_[rootOrder_[i]].area;

@@ -217,8 +217,6 @@ class RadiositySolver {
 
  private:
   void clear();
-  void buildElements();
-  int buildCluster(int begin, int end, int depth);
   // Appends a link (with its shaft when shafts are stored) and returns its index.
   int addLink(const Link& link, const std::optional<Shaft>& shaft);
   // The receiver oracle's point values of a link (see pointTransfers_).
