@@ -38,6 +38,7 @@
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/path_traced_reference.h"
 #include "penumbra/radiosity/combined_solution.h"
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/receiver_sampling.h"
 #include "penumbra/scene/scene_loader.h"
@@ -56,6 +57,7 @@ struct Options {
   bool finalGather = true;
   bool combined = false;    // CombinedSolution: exact direct (DM) + radiosity's indirect
   bool pathTracer = false;  // the path tracer's own error and cost at fewer paths instead
+  bool galerkin = false;    // the Galerkin core (linear elements, no final gather) instead
   int visibilityRays = 0;   // 0: the solver's default
   int gatherRays = 0;
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
@@ -152,6 +154,53 @@ void pathTracerRows(const PosedScene& posed, const std::vector<OpenPoint>& point
   }
 }
 
+// The errors of a solution's samples at the points: total, and the direct and indirect parts'
+// each against the total.
+struct PointErrors {
+  std::vector<double> total, direct, indirect, signedIndirect;
+  void add(const OpenPoint& p, const std::optional<RadiositySample>& sample) {
+    const double d = sample ? sample->direct.average() : 0;
+    const double i = sample ? sample->indirect.average() : 0;
+    total.push_back(std::abs(d + i - p.reference) / p.reference);
+    direct.push_back(std::abs(d - p.direct) / p.reference);
+    indirect.push_back(std::abs(i - (p.reference - p.direct)) / p.reference);
+    signedIndirect.push_back((i - (p.reference - p.direct)) / p.reference);
+  }
+};
+
+void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points, double tolerance,
+                 const Options& o) {
+  GalerkinOptions options;
+  options.tolerance = tolerance;
+  GalerkinRadiosity solver(options);
+  const auto start = std::chrono::steady_clock::now();
+  solver.build(live);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  PointErrors errors;
+  const auto queryStart = std::chrono::steady_clock::now();
+  std::vector<std::optional<RadiositySample>> samples;
+  for (const OpenPoint& p : points) samples.push_back(solver.sample(p.point.p, p.point.n));
+  const double queryMicroseconds =
+      1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - queryStart).count() /
+      double(points.size());
+  for (size_t i = 0; i < points.size(); ++i) errors.add(points[i], samples[i]);
+  const GalerkinStats& s = solver.stats();
+  std::printf(
+      "%10.0e %8d %9.4f %9lld %10lld %7.2f%% %7.2f%% %8.2f%% %8.2f%% %9.4f %9.4f %9s %9.1f\n",
+      tolerance, o.threads, seconds, s.elements, s.activeLinks, 100 * percentile(errors.total, 0.5),
+      100 * percentile(errors.total, 0.95), 100 * percentile(errors.direct, 0.5),
+      100 * percentile(errors.indirect, 0.5), s.refineSeconds, s.solveSeconds, "-",
+      queryMicroseconds);
+  const Rgb emitted = solver.emittedPower(), absorbed = solver.absorbedPower();
+  std::printf(
+      "# median signed indirect error %.2f%% of the total; absorbed/emitted %.4f; %lld pairs, "
+      "%lld rays, %lld unoccluded links, %d iterations\n",
+      100 * percentile(errors.signedIndirect, 0.5), absorbed.average() / emitted.average(),
+      s.pointPairs, s.visibilityRays, s.unoccludedLinks, s.iterations);
+  std::fflush(stdout);
+}
+
 void run(const std::string& path, const Options& o) {
   const PosedScene posed = poseAt(loadScene(path), 0);
   const std::vector<OpenPoint> points = referencePoints(path, posed, o);
@@ -177,6 +226,10 @@ void run(const std::string& path, const Options& o) {
     // Radiosity alone, or the combined solution (its direct part from the discontinuity mesh);
     // both on one live scene built outside the timing, as the CLI shares it between engines.
     const DynamicScene live(posed);
+    if (o.galerkin) {
+      galerkinRow(live, points, tolerance, o);
+      continue;
+    }
     RadiositySolver alone(options);
     CombinedSolution combined(options);
     const auto start = std::chrono::steady_clock::now();
@@ -261,6 +314,8 @@ int main(int argc, char** argv) {
       o.combined = true;
     else if (arg == "--path-tracer")
       o.pathTracer = true;
+    else if (arg == "--galerkin")
+      o.galerkin = true;
     else if (arg == "--visibility-rays")
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")

@@ -19,6 +19,7 @@ struct NodeRef {
   int index = 0;
 
   bool isCluster() const { return kind == kCluster; }
+  bool isElement() const { return kind == kElement; }
   bool operator==(const NodeRef&) const = default;
 };
 

@@ -89,8 +89,7 @@ int ClusterBuilder::build(int begin, int end, int depth) {
   const bool isSmall = end - begin <= kMaxElementsPerLeafCluster || depth >= kMaxClusterDepth ||
                        centroids.diagonalLength() == 0;
   if (isSmall) {
-    for (int i = begin; i < end; ++i)
-      cluster.children.push_back({NodeRef::kElement, order[i]});
+    for (int i = begin; i < end; ++i) cluster.children.push_back({NodeRef::kElement, order[i]});
   } else {
     const Vec3 mid = centroids.center();
     const auto octant = [&](int element) {
@@ -106,8 +105,7 @@ int ClusterBuilder::build(int begin, int end, int depth) {
       if (last - first == 1)
         cluster.children.push_back({NodeRef::kElement, order[first]});
       else if (first == begin && last == end)  // one octant holds all: stop here
-        for (int i = begin; i < end; ++i)
-          cluster.children.push_back({NodeRef::kElement, order[i]});
+        for (int i = begin; i < end; ++i) cluster.children.push_back({NodeRef::kElement, order[i]});
       else
         cluster.children.push_back({NodeRef::kCluster, build(first, last, depth + 1)});
       first = last;

@@ -32,6 +32,7 @@
 #include "penumbra/base/split_mix.h"
 #include "penumbra/geometry/spherical_triangle.h"
 #include "penumbra/lighting/exact_reference.h"
+#include "penumbra/radiosity/point_form_factor.h"
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
 
@@ -48,46 +49,6 @@ std::uint64_t linkSeed(std::uint64_t seed, NodeRef r, NodeRef s) {
 
 Polygon3 loopOf(const Element& e) {
   return Polygon3(e.vertices.begin(), e.vertices.begin() + e.vertexCount);
-}
-
-// Form factor from the point x (normal n) to the front side of element s: s clipped to x's front
-// half-space (Sutherland-Hodgman, on the stack: this is the solver's innermost loop), then
-// Lambert's formula as in lighting/form_factor.h.
-double pointToElement(const Vec3& x, const Vec3& n, const Element& s) {
-  if (dot(s.normal, x - s.vertices[0]) <= 0) return 0;  // x behind the source: it emits forward
-  std::array<double, 4> side{};
-  bool allInFront = true, allBehind = true;
-  for (int i = 0; i < s.vertexCount; ++i) {
-    side[i] = dot(n, s.vertices[i] - x);
-    allInFront = allInFront && side[i] >= 0;
-    allBehind = allBehind && side[i] <= 0;
-  }
-  if (allBehind) return 0;
-  std::array<Vec3, 5> loop{};
-  int count = 0;
-  if (allInFront) {
-    for (int i = 0; i < s.vertexCount; ++i) loop[count++] = s.vertices[i] - x;
-  } else {
-    for (int i = 0; i < s.vertexCount; ++i) {
-      const int j = (i + 1) % s.vertexCount;
-      if (side[i] >= 0) loop[count++] = s.vertices[i] - x;
-      if ((side[i] > 0 && side[j] < 0) || (side[i] < 0 && side[j] > 0)) {
-        const double t = side[i] / (side[i] - side[j]);
-        loop[count++] = s.vertices[i] + (s.vertices[j] - s.vertices[i]) * t - x;
-      }
-    }
-    if (count < 3) return 0;
-  }
-  double sum = 0;
-  for (int i = 0; i < count; ++i) {
-    const Vec3& a = loop[i];
-    const Vec3& b = loop[(i + 1) % count];
-    const Vec3 c = cross(b, a);
-    const double sinTimesLengths = length(c);
-    if (sinTimesLengths == 0) continue;
-    sum += std::atan2(sinTimesLengths, dot(a, b)) * dot(n, c) / sinTimesLengths;
-  }
-  return std::max(0.0, sum / (2 * std::numbers::pi));
 }
 
 // Relative slack for "on the plane": a polygon touching a plane counts as lying in it.
@@ -144,7 +105,7 @@ struct FormFactorQuadrature {
 
   double at(const Vec3& x) {
     ++evaluations;
-    const double f = pointToElement(x, normal, source);
+    const double f = pointToElementFormFactor(x, normal, source);
     lowest = std::min(lowest, f);
     highest = std::max(highest, f);
     return f;
@@ -272,8 +233,8 @@ double sourceSideSpread(const Element& source, const Element& receiver) {
     child.vertices = loop;
     child.vertexCount = source.vertexCount;
     for (const auto& subLoop : child.childVertices()) {
-      const double f =
-          pointToElement(vertexMean(subLoop, source.vertexCount), source.normal, receiver);
+      const double f = pointToElementFormFactor(vertexMean(subLoop, source.vertexCount),
+                                                source.normal, receiver);
       lowest = std::min(lowest, f);
       highest = std::max(highest, f);
     }
@@ -369,7 +330,7 @@ void RadiositySolver::estimate(Link& link, EstimateCounters& counters, PointTran
       // factor to the source: the visible fraction of the transfer, not of the pairs of points
       // (uniform pairs undersample the parts of the source that matter most, nearby ones).
       const Vec3 y = sampleSeenFrom(x, re.normal, se, u, v);
-      const double weight = pointToElement(x, re.normal, se);
+      const double weight = pointToElementFormFactor(x, re.normal, se);
       weightSum += weight;
       if (isVisible(re.polygon, x, se.polygon, y)) {
         visibleWeight += weight;
@@ -407,7 +368,7 @@ void RadiositySolver::estimate(Link& link, EstimateCounters& counters, PointTran
     const SurfacePoint x = samplePoint(r, u, v, w);
     for (size_t k = 0; k < sources.size(); ++k)
       cumulative[k + 1] =
-          cumulative[k] + pointToElement(x.position, x.normal, elements_[sources[k]]);
+          cumulative[k] + pointToElementFormFactor(x.position, x.normal, elements_[sources[k]]);
     const double f = cumulative.back();
     for (size_t k = 0; k < shares.size(); ++k) shares[k] += cumulative[k + 1] - cumulative[k];
     lowest = std::min(lowest, f);
@@ -483,7 +444,7 @@ void RadiositySolver::estimateExactVisibility(Link& link, const Element& re, con
   }
   // The form factor and exact visible form factor at x.
   const auto atPoint = [&](const Vec3& x) -> std::pair<double, double> {
-    const double f = pointToElement(x, re.normal, se);
+    const double f = pointToElementFormFactor(x, re.normal, se);
     if (!(f > 0) || isCovered(re.polygon, x)) return {f, 0.0};
     return {f, visibleTransfer(x, re.normal, re.polygon, se, occluders, f,
                                counters.exactVisibilityPoints)};
@@ -534,18 +495,18 @@ double RadiositySolver::unoccludedPointTransfer(const Link& link, const Vec3& x,
         contactShare(elements_[link.receiver.index], se, contactSlack(scene_)))
       return se.insideness(x) >= 0 ? 1 : 0;  // in contact: the source covers x or not
     if (covered) return 0;                   // x sees only what covers it
-    f = pointToElement(x, normal, se);
+    f = pointToElementFormFactor(x, normal, se);
   } else {
     if (covered) return 0;
     const Cluster& c = clusters_[s.index];
     for (int i = c.elementBegin; i < c.elementEnd; ++i)
-      f += pointToElement(x, normal, elements_[rootOrder_[i]]);
+      f += pointToElementFormFactor(x, normal, elements_[rootOrder_[i]]);
   }
   return f;
 }
 
 double RadiositySolver::pointFormFactor(const Vec3& x, const Vec3& normal, const Element& e) const {
-  return pointToElement(x, normal, e);
+  return pointToElementFormFactor(x, normal, e);
 }
 
 double RadiositySolver::cellFormFactor(const std::array<Vec3, 4>& cell, const Element& receiver,
@@ -555,7 +516,7 @@ double RadiositySolver::cellFormFactor(const std::array<Vec3, 4>& cell, const El
   c.vertexCount = receiver.vertexCount;
   c.normal = receiver.normal;
   c.area = elementArea(cell, receiver.vertexCount);
-  if (!(c.area > 0)) return pointToElement(c.centroid(), receiver.normal, source);
+  if (!(c.area > 0)) return pointToElementFormFactor(c.centroid(), receiver.normal, source);
   return meanFormFactor(c, source, kCellMaxLevel).mean;
 }
 

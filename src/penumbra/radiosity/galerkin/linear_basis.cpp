@@ -81,8 +81,8 @@ Cubature linkCubature(const ElementShape& shape) {
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const double s = nodes[i], t = nodes[j];
-      const Vec3 p = v[0] * ((1 - s) * (1 - t)) + v[1] * (s * (1 - t)) + v[2] * (s * t) +
-                     v[3] * ((1 - s) * t);
+      const Vec3 p =
+          v[0] * ((1 - s) * (1 - t)) + v[1] * (s * (1 - t)) + v[2] * (s * t) + v[3] * ((1 - s) * t);
       const Vec3 ds = (v[1] - v[0]) * (1 - t) + (v[2] - v[3]) * t;
       const Vec3 dt = (v[3] - v[0]) * (1 - s) + (v[2] - v[1]) * s;
       const double jacobian = length(cross(ds, dt));

@@ -1,0 +1,162 @@
+// Hierarchical Galerkin radiosity: building, queries and statistics. The steps live in
+// galerkin_links.cpp (link estimation), galerkin_refinement.cpp and galerkin_solve.cpp.
+
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "penumbra/base/check.h"
+#include "penumbra/radiosity/galerkin/galerkin_internals.h"
+#include "penumbra/radiosity/hierarchy_building.h"
+#include "penumbra/spatial/dynamic_scene.h"
+#include "penumbra/spatial/receiver_locator.h"
+
+namespace penumbra {
+
+namespace {
+
+double elapsedSeconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+}  // namespace
+
+GalerkinRadiosity::GalerkinRadiosity(const GalerkinOptions& options) : options_(options) {}
+
+void GalerkinRadiosity::clear() {
+  elements_.clear();
+  polygonRoots_.clear();
+  clusters_.clear();
+  links_.clear();
+  stats_ = {};
+}
+
+void GalerkinRadiosity::build(const DynamicScene& scene) {
+  const auto start = std::chrono::steady_clock::now();
+  clear();
+  scene_ = scene.posed();
+  grid_ = &scene.grid();
+  rays_ = &scene.rays();
+
+  const std::vector<Element> roots = rootElements(scene_, polygonRoots_);
+  CHECK(!roots.empty());
+  double totalArea = 0, emittedPower = 0;
+  elements_.reserve(roots.size() * 4);
+  for (const Element& root : roots) {
+    GElement e;
+    e.shape = root;
+    e.basis = LinearBasis(e.shape);
+    e.polygon = root.polygon;
+    e.area = root.area;
+    e.reflectance = root.reflectance;
+    e.node.emission = root.radiometry.emission;
+    elements_.push_back(e);
+    totalArea += e.area;
+    emittedPower += e.area * e.node.emission.maxComponent();
+  }
+  ClusterHierarchy hierarchy = buildClusterHierarchy(roots);
+  clusters_.resize(hierarchy.clusters.size());
+  for (size_t i = 0; i < clusters_.size(); ++i)
+    clusters_[i].structure = std::move(hierarchy.clusters[i]);
+  threshold_ = options_.tolerance * emittedPower;
+  minArea_ = options_.minAreaFactor * options_.tolerance * totalArea;
+  pullEmission({NodeRef::kCluster, 0});
+
+  Counters counters;
+  for (int pass = 0; pass < std::max(1, options_.refinementPasses); ++pass) {
+    const auto refineStart = std::chrono::steady_clock::now();
+    bool refined = false;
+    if (pass == 0) {
+      std::vector<PolygonId> all(scene_.polygons.size());
+      for (size_t i = 0; i < all.size(); ++i) all[i] = PolygonId(i);
+      const NodeRef root{NodeRef::kCluster, 0};
+      refine(root, root, all, counters);
+      refined = true;
+    } else {
+      refined = refineActiveLinks(counters);
+    }
+    stats_.refineSeconds += elapsedSeconds(refineStart);
+    if (!refined) break;
+    const auto solveStart = std::chrono::steady_clock::now();
+    solve();
+    stats_.solveSeconds += elapsedSeconds(solveStart);
+  }
+  stats_.pointPairs = counters.pointPairs;
+  stats_.visibilityRays = counters.visibilityRays;
+  stats_.unoccludedLinks = counters.unoccludedLinks;
+  stats_.elements = (long long)elements_.size();
+  stats_.clusters = (long long)clusters_.size();
+  for (const GElement& e : elements_) stats_.leaves += e.isLeaf() ? 1 : 0;
+  for (const GLink& l : links_) (l.active ? stats_.activeLinks : stats_.passiveLinks) += 1;
+  stats_.totalSeconds = elapsedSeconds(start);
+}
+
+std::optional<int> GalerkinRadiosity::leafContaining(const Vec3& point, const Vec3& normal) const {
+  if (elements_.empty() || !grid_) return std::nullopt;
+  const auto receiver = locateReceiver(scene_, *grid_, point, normal);
+  if (!receiver || polygonRoots_[receiver->polygon].empty()) return std::nullopt;
+  const auto& roots = polygonRoots_[receiver->polygon];
+  int id = roots[0];
+  for (int root : roots)
+    if (elements_[root].shape.insideness(point) > elements_[id].shape.insideness(point)) id = root;
+  while (!elements_[id].isLeaf())
+    id = elements_[id].firstChild + elements_[id].shape.childContaining(point);
+  return id;
+}
+
+std::optional<RadiositySample> GalerkinRadiosity::sample(const Vec3& point,
+                                                         const Vec3& normal) const {
+  const std::optional<int> leaf = leafContaining(point, normal);
+  if (!leaf) return std::nullopt;
+  const GElement& e = elements_[*leaf];
+  const auto nonNegative = [](const Rgb& c) {
+    return Rgb{std::max(c.r, 0.0), std::max(c.g, 0.0), std::max(c.b, 0.0)};
+  };
+  return RadiositySample{nonNegative(e.basis.evaluate(e.node.irradianceDirect, point)),
+                         nonNegative(e.basis.evaluate(e.node.irradianceIndirect, point)),
+                         nonNegative(e.basis.evaluate(e.node.radiosity, point))};
+}
+
+Rgb GalerkinRadiosity::irradiance(const Vec3& point, const Vec3& normal) const {
+  const auto s = sample(point, normal);
+  return s ? s->total() : Rgb{};
+}
+
+Rgb GalerkinRadiosity::emittedPower() const {
+  Rgb power;
+  for (const GElement& e : elements_)
+    if (e.parent < 0) power += e.node.emission * e.area;
+  return power;
+}
+
+Rgb GalerkinRadiosity::absorbedPower() const {
+  Rgb power;
+  for (const GElement& e : elements_) {
+    if (!e.isLeaf()) continue;
+    const Rgb irradiance = e.node.irradianceDirect[0] + e.node.irradianceIndirect[0];
+    power += (Rgb::gray(1) - e.reflectance) * irradiance * e.area;
+  }
+  return power;
+}
+
+// Node accessors.
+
+GalerkinRadiosity::Node& GalerkinRadiosity::nodeOf(NodeRef n) {
+  return n.isCluster() ? clusters_[n.index].node : elements_[n.index].node;
+}
+const GalerkinRadiosity::Node& GalerkinRadiosity::nodeOf(NodeRef n) const {
+  return n.isCluster() ? clusters_[n.index].node : elements_[n.index].node;
+}
+Box3 GalerkinRadiosity::bounds(NodeRef n) const {
+  return n.isCluster() ? clusters_[n.index].structure.bounds : elements_[n.index].shape.bounds();
+}
+double GalerkinRadiosity::area(NodeRef n) const {
+  return n.isCluster() ? clusters_[n.index].structure.area : elements_[n.index].area;
+}
+double GalerkinRadiosity::size(NodeRef n) const {
+  return bounds(n).diagonalLength();
+}
+
+}  // namespace penumbra

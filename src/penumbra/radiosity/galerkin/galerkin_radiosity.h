@@ -1,0 +1,166 @@
+#pragma once
+// Hierarchical Galerkin radiosity with linear elements and isotropic clusters: the fast static
+// solver core (issue 22).
+//
+//  - Elements carry linear functions (three coefficients in an orthonormal basis, linear_basis.h;
+//    Zatz 1993; Gortler, Schröder, Cohen & Hanrahan 1993), clusters a constant (isotropic
+//    clusters: Sillion 1995; Smits, Arvo & Greenberg 1994).
+//  - A link's coefficients K[β][α] = (1/A_r) ∫_r ∫_s k(x, y) V(x, y) φ_β(x) φ_α(y) come from
+//    cubature over point pairs (2 x 2 Gauss on quadrilaterals, 3 points on triangles; 4 fixed
+//    points in a cluster's box), with 0/1 visibility along each pair: a ray only where a polygon
+//    lies in the link's shaft, the candidates handed down from parent link to child link.
+//    The kernel k = c_x c_y / (π r²), where an element's c is its cosine and a cluster's is 1/4
+//    (the mean of max(0, cos θ) over directions: a cluster emits and receives as a cloud of
+//    randomly oriented surfaces).
+//  - Refinement by a power oracle: a link is refined when ρ_r A_r B_s,max times the spread of its
+//    point-pair transfers (plus the whole transfer when a cluster's isotropy is assumed) exceeds
+//    tolerance x the emitted power; the larger end is split.
+//  - Jacobi gathering with push-pull; irradiance from emission ("direct") and from reflected
+//    radiosity ("indirect") kept apart. The solution shown at a point is the linear function of
+//    the leaf that holds it: no final gather.
+//
+// Units: B, M in W/m²; irradiance in W/m²; B = M + ρ E (DESIGN.md §5).
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "penumbra/radiosity/cluster.h"
+#include "penumbra/radiosity/galerkin/linear_basis.h"
+#include "penumbra/radiosity/radiosity_solver.h"
+#include "penumbra/scene/posed_scene.h"
+
+namespace penumbra {
+
+class DynamicScene;
+class RayCaster;
+class UniformGrid;
+
+struct GalerkinOptions {
+  // The power oracle's threshold, relative to the power the scene emits.
+  double tolerance = 1e-3;
+  // Elements are not split below minAreaFactor x tolerance x the total surface area.
+  double minAreaFactor = 0.05;
+  int refinementPasses = 3;   // refine, solve, refine with the new radiosities, solve, ...
+  double convergence = 1e-4;  // stop when the largest change of B < convergence x max B
+  int maxIterations = 200;
+  long long maxLinks = 1'000'000;  // refinement's budget (an input error past it)
+  long long maxElements = 1'000'000;
+};
+
+struct GalerkinStats {
+  long long elements = 0;
+  long long leaves = 0;
+  long long clusters = 0;
+  long long activeLinks = 0;
+  long long passiveLinks = 0;
+  long long pointPairs = 0;       // kernel evaluations
+  long long visibilityRays = 0;   // rays cast
+  long long unoccludedLinks = 0;  // links whose shaft held no polygon (no rays)
+  int iterations = 0;             // Jacobi iterations, all passes
+  double refineSeconds = 0;
+  double solveSeconds = 0;
+  double totalSeconds = 0;
+};
+
+class GalerkinRadiosity {
+ public:
+  explicit GalerkinRadiosity(const GalerkinOptions& options = {});
+
+  // Builds the hierarchy at the scene's current pose and solves (the scene's grid and ray
+  // caster are used during the call only).
+  void build(const DynamicScene& scene);
+
+  // Direct and indirect irradiance and radiosity at a point on the front of a receiver, from the
+  // linear functions of the leaf holding it (negative values of a steep linear function clamped
+  // to 0); nothing when the point lies on no polygon facing `normal`.
+  std::optional<RadiositySample> sample(const Vec3& point, const Vec3& normal) const;
+  Rgb irradiance(const Vec3& point, const Vec3& normal) const;
+
+  // Power emitted and absorbed ((1 − ρ) ∫ E over the leaves), W per channel.
+  Rgb emittedPower() const;
+  Rgb absorbedPower() const;
+
+  const GalerkinStats& stats() const { return stats_; }
+
+  // What the solver holds per element and per cluster (public for tests).
+  struct Node {
+    Rgb emission;                                        // M (area mean for a cluster)
+    LinearRgb gatheredDirect{}, gatheredIndirect{};      // over the node's own links
+    LinearRgb irradianceDirect{}, irradianceIndirect{};  // with what ancestors pushed down
+    LinearRgb radiosity{};                               // B (a cluster: its area mean in [0])
+    double maxRadiosity = 0;                             // a bound on B over the leaves below
+    double maxReflectance = 0;                           // the largest reflectance below
+  };
+  struct GElement {
+    ElementShape shape;
+    LinearBasis basis;
+    BasisTransfer fromParent{};  // the parent's basis over this element (push and pull)
+    PolygonId polygon = 0;
+    int parent = -1;
+    int firstChild = -1;
+    double area = 0;
+    Rgb reflectance;
+    Node node;
+    bool isLeaf() const { return firstChild < 0; }
+  };
+  struct GCluster {
+    ClusterNode structure;
+    Node node;
+  };
+  struct GLink {
+    NodeRef receiver, source;
+    std::array<double, 9> k{};  // K[β][α], β over the receiver's basis, α over the source's
+    float meanTransfer = 0;     // the mean point-pair transfer (K[0][0])
+    float spread = 0;           // max − min of the point-pair transfers
+    bool active = true;
+  };
+  const std::vector<GElement>& elements() const { return elements_; }
+  const std::vector<GLink>& links() const { return links_; }
+
+ private:
+  struct Estimate;
+  struct Counters;
+  void clear();
+  // Can any light leave s and reach r (their fronts face each other somewhere)?
+  bool canExchange(NodeRef r, NodeRef s) const;
+  Estimate estimate(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates,
+                    Counters& counters) const;
+  // The polygons of `among` that may meet the link's shaft.
+  std::vector<PolygonId> shaftCandidates(NodeRef r, NodeRef s,
+                                         const std::vector<PolygonId>& among) const;
+  std::vector<PolygonId> gridCandidates(NodeRef r, NodeRef s) const;
+  double oracle(NodeRef r, NodeRef s, double meanTransfer, double spread) const;
+  // Refines the interaction of r with s (r gathers from s) until the oracle is satisfied.
+  void refine(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates, Counters& counters);
+  bool refineActiveLinks(Counters& counters);
+  // Splits the element (once) and returns its first child.
+  int splitElement(int element);
+  bool canSplit(NodeRef n) const;
+  std::vector<NodeRef> children(NodeRef n);
+  double size(NodeRef n) const;
+  Box3 bounds(NodeRef n) const;
+  double area(NodeRef n) const;
+  Node& nodeOf(NodeRef n);
+  const Node& nodeOf(NodeRef n) const;
+  void pullEmission(NodeRef n);
+  void solve();
+  // Pushes what `n` gathered (plus `direct`, `indirect` from above, in n's basis) down to the
+  // leaves, sets B there and pulls it back up; returns the largest change of a leaf's B.
+  double pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect);
+  std::optional<int> leafContaining(const Vec3& point, const Vec3& normal) const;
+
+  GalerkinOptions options_;
+  PosedScene scene_;
+  const UniformGrid* grid_ = nullptr;
+  const RayCaster* rays_ = nullptr;
+  std::vector<GElement> elements_;
+  std::vector<std::vector<int>> polygonRoots_;
+  std::vector<GCluster> clusters_;  // [0] is the root
+  std::vector<GLink> links_;
+  double threshold_ = 0;  // tolerance x emitted power
+  double minArea_ = 0;
+  GalerkinStats stats_;
+};
+
+}  // namespace penumbra

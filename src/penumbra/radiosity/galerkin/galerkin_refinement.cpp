@@ -1,0 +1,133 @@
+// Galerkin refinement: the power oracle, splitting the larger end of a link, element subdivision.
+
+#include <sstream>
+
+#include "penumbra/base/input_error.h"
+#include "penumbra/radiosity/galerkin/galerkin_internals.h"
+
+namespace penumbra {
+
+namespace {
+
+InputError budgetExceeded(double tolerance, const char* what, long long limit) {
+  std::ostringstream problem;
+  problem << "refining to tolerance " << tolerance << " needs more than " << limit << " " << what
+          << "; use a larger tolerance";
+  return InputError("--tolerance", problem.str());
+}
+
+}  // namespace
+
+// The power a link may misplace: over the receiver's area, the source's largest radiosity times
+// how much the point-pair transfers differ (a linear function cannot follow more), plus the whole
+// transfer where a cluster end is taken as isotropic (its surfaces face every way, and all get
+// or send the same).
+double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, double spread) const {
+  double variation = spread;
+  if (r.isCluster() || s.isCluster()) variation += meanTransfer;
+  return area(r) * nodeOf(s).maxRadiosity * variation;
+}
+
+bool GalerkinRadiosity::canSplit(NodeRef n) const {
+  return n.isCluster() || elements_[n.index].area > minArea_;
+}
+
+std::vector<NodeRef> GalerkinRadiosity::children(NodeRef n) {
+  if (n.isCluster()) return clusters_[n.index].structure.children;
+  const int first = splitElement(n.index);
+  return {{NodeRef::kElement, first},
+          {NodeRef::kElement, first + 1},
+          {NodeRef::kElement, first + 2},
+          {NodeRef::kElement, first + 3}};
+}
+
+int GalerkinRadiosity::splitElement(int index) {
+  if (elements_[index].firstChild >= 0) return elements_[index].firstChild;
+  if ((long long)elements_.size() + 4 > options_.maxElements)
+    throw budgetExceeded(options_.tolerance, "elements", options_.maxElements);
+  const GElement parent = elements_[index];
+  const int first = int(elements_.size());
+  for (const auto& vertices : parent.shape.childVertices()) {
+    GElement child;
+    child.shape.vertices = vertices;
+    child.shape.vertexCount = parent.shape.vertexCount;
+    child.shape.normal = parent.shape.normal;
+    child.basis = LinearBasis(child.shape);
+    child.fromParent = basisTransfer(parent.basis, child.basis, child.shape);
+    child.polygon = parent.polygon;
+    child.parent = index;
+    child.area = elementArea(vertices, parent.shape.vertexCount);
+    child.reflectance = parent.reflectance;
+    child.node.emission = parent.node.emission;
+    child.node.maxReflectance = parent.node.maxReflectance;
+    child.node.maxRadiosity = parent.node.maxRadiosity;
+    // The parent's radiosity restricted to the child, until the next solve: the oracle of a
+    // later pass reads it.
+    for (int alpha = 0; alpha < 3; ++alpha)
+      for (int beta = 0; beta < 3; ++beta)
+        child.node.radiosity[alpha] += parent.node.radiosity[beta] * child.fromParent[beta][alpha];
+    elements_.push_back(child);
+  }
+  elements_[index].firstChild = first;
+  return first;
+}
+
+void GalerkinRadiosity::refine(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates,
+                               Counters& counters) {
+  if (!canExchange(r, s)) return;
+  if (r == s) {  // a cluster with itself: every pair of its children
+    const std::vector<NodeRef> parts = children(r);
+    for (NodeRef a : parts)
+      for (NodeRef b : parts) refine(a, b, candidates, counters);
+    return;
+  }
+  const std::vector<PolygonId> own = shaftCandidates(r, s, candidates);
+  const Estimate e = estimate(r, s, own, counters);
+  if (oracle(r, s, e.meanTransfer, e.spread) > threshold_) {
+    const bool receiverLarger = size(r) >= size(s);
+    const bool splitReceiver = receiverLarger ? canSplit(r) : !canSplit(s) && canSplit(r);
+    const bool splitSource = !splitReceiver && canSplit(s);
+    if (splitReceiver) {
+      for (NodeRef child : children(r)) refine(child, s, own, counters);
+      return;
+    }
+    if (splitSource) {
+      for (NodeRef child : children(s)) refine(r, child, own, counters);
+      return;
+    }
+  }
+  if ((long long)links_.size() >= options_.maxLinks)
+    throw budgetExceeded(options_.tolerance, "links", options_.maxLinks);
+  GLink link;
+  link.receiver = r;
+  link.source = s;
+  link.k = e.k;
+  link.meanTransfer = float(e.meanTransfer);
+  link.spread = float(e.spread);
+  links_.push_back(link);
+}
+
+bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
+  bool refined = false;
+  const size_t count = links_.size();
+  for (size_t i = 0; i < count; ++i) {
+    const GLink link = links_[i];
+    if (!link.active) continue;
+    if (oracle(link.receiver, link.source, link.meanTransfer, link.spread) <= threshold_) continue;
+    if (!canSplit(link.receiver) && !canSplit(link.source)) continue;
+    links_[i].active = false;
+    refined = true;
+    const std::vector<PolygonId> candidates = gridCandidates(link.receiver, link.source);
+    const bool receiverLarger = size(link.receiver) >= size(link.source);
+    const bool splitReceiver = receiverLarger ? canSplit(link.receiver) : !canSplit(link.source);
+    if (splitReceiver)
+      for (NodeRef child : children(link.receiver))
+        refine(child, link.source, candidates, counters);
+    else
+      for (NodeRef child : children(link.source))
+        refine(link.receiver, child, candidates, counters);
+  }
+  return refined;
+}
+
+}  // namespace penumbra
