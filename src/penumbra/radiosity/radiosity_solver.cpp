@@ -22,6 +22,7 @@
 #include "penumbra/base/check.h"
 #include "penumbra/base/input_error.h"
 #include "penumbra/lighting/exact_reference.h"
+#include "penumbra/radiosity/face_contacts.h"
 #include "penumbra/radiosity/hierarchy_building.h"
 #include "penumbra/scene/closedness.h"
 #include "penumbra/spatial/dynamic_scene.h"
@@ -105,7 +106,7 @@ void RadiositySolver::compute() {
   const auto start = std::chrono::steady_clock::now();
   visibleParts_ = std::make_unique<ExactReference>(scene_, grid_);
   elements_ = rootElements(scene_, polygonRoots_);
-  findContacts();
+  contacts_ = faceContacts(scene_);
   CHECK(!elements_.empty());
   ClusterHierarchy hierarchy = buildClusterHierarchy(elements_);
   rootOrder_ = std::move(hierarchy.rootOrder);
@@ -155,36 +156,6 @@ void RadiositySolver::compute() {
   buildMesh();
   computeStats();
   stats_.totalSeconds = elapsedSeconds(start);
-}
-
-// Pairs of polygons in one plane facing each other with overlapping bounds (a box standing on the
-// floor, a handle on a drawer). Planes are compared in a canonical orientation (first non-zero
-// normal component positive), sorted by offset, so only polygons with nearly equal offsets are
-// paired up.
-void RadiositySolver::findContacts() {
-  contacts_.assign(scene_.polygons.size(), {});
-  const double slack = 1e-9 * std::max(1.0, scene_.extent.diagonalLength());
-  const auto canonicalOffset = [](const Plane& plane) {
-    const Vec3& n = plane.normal;
-    const double first = n.x != 0 ? n.x : n.y != 0 ? n.y : n.z;
-    return first > 0 ? plane.offset : -plane.offset;
-  };
-  std::vector<std::pair<double, PolygonId>> order;
-  for (const WorldPolygon& p : scene_.polygons) order.push_back({canonicalOffset(p.plane), p.id});
-  std::sort(order.begin(), order.end());
-  for (size_t i = 0; i < order.size(); ++i)
-    for (size_t j = i + 1; j < order.size() && order[j].first - order[i].first <= 2 * slack; ++j) {
-      const WorldPolygon& a = scene_.polygons[order[i].second];
-      const WorldPolygon& b = scene_.polygons[order[j].second];
-      if (dot(a.plane.normal, b.plane.normal) > -1 + 1e-9) continue;
-      if (!a.bounds.expanded(slack).overlaps(b.bounds)) continue;
-      bool coplanar = true;
-      for (const Vec3& v : b.vertices)
-        coplanar = coplanar && std::abs(a.plane.signedDistance(v)) <= slack;
-      if (!coplanar) continue;
-      contacts_[a.id].push_back(b.id);
-      contacts_[b.id].push_back(a.id);
-    }
 }
 
 bool RadiositySolver::isCovered(PolygonId polygon, const Vec3& x) const {

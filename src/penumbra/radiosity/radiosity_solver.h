@@ -347,7 +347,6 @@ class RadiositySolver {
     PolygonId polygon = 0;
   };
   SurfacePoint samplePoint(NodeRef n, double u, double v, double w) const;
-  void findContacts();
   // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it? Such a point
   // sees only that polygon (the ray caster, which ignores polygons through a ray's ends, would
   // let it see through).

@@ -18,6 +18,7 @@ struct GalerkinRadiosity::Estimate {
   std::array<double, 9> k{};
   double meanTransfer = 0;  // the mean point-pair transfer
   double spread = 0;        // max − min of the point-pair transfers
+  Vec3 direction;           // unit, from the receiver's centre to the source's
 };
 
 }  // namespace penumbra

@@ -15,8 +15,9 @@ namespace penumbra {
 
 namespace {
 
-// The mean of max(0, cos θ) over all directions: an isotropic cluster's cosine.
-constexpr double kIsotropicCosine = 0.25;
+// The mean of max(0, cos θ) over all directions: a cluster end's cosine in the transfers the
+// oracle weighs (its coefficients take the direction from the cluster's lobes instead).
+constexpr double kClusterCosine = 0.25;
 
 // The points where a link samples one of its ends.
 struct EndPoints {
@@ -86,6 +87,9 @@ Polygon3 loopOf(const ElementShape& e) {
 
 bool GalerkinRadiosity::canExchange(NodeRef r, NodeRef s) const {
   if (r == s) return r.isCluster();
+  if ((r.isElement() && elements_[r.index].cover == GElement::kCovered) ||
+      (s.isElement() && elements_[s.index].cover == GElement::kCovered))
+    return false;
   // Is all of node n behind (or in) the plane of element e?
   const auto behind = [&](const GElement& e, NodeRef n) {
     const Vec3& normal = e.shape.normal;
@@ -153,6 +157,14 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   // that lost energy (3.4% of a furnace room at tolerance 1e-2, 0.9% at 1e-3); the cubature then
   // only says how the transfer spreads over the source, for its linear coefficients.
   std::array<std::array<double, 4>, 4> transfers{};
+  // Points under a polygon in face-to-face contact see only it, which the ray caster cannot tell.
+  std::array<bool, 4> receiverCovered{}, sourceCovered{};
+  if (r.isElement() && elements_[r.index].cover == GElement::kPartlyCovered)
+    for (int i = 0; i < receiver.count; ++i)
+      receiverCovered[i] = isCovered(elements_[r.index].polygon, receiver.points[i]);
+  if (s.isElement() && elements_[s.index].cover == GElement::kPartlyCovered)
+    for (int j = 0; j < source.count; ++j)
+      sourceCovered[j] = isCovered(elements_[s.index].polygon, source.points[j]);
   for (int i = 0; i < receiver.count; ++i) {
     const Vec3& x = receiver.points[i];
     double cubatureSum = 0;
@@ -161,8 +173,8 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       const double r2 = dot(d, d);
       if (!(r2 > 0)) continue;
       const double r1 = std::sqrt(r2);
-      const double cx = receiver.isCluster ? kIsotropicCosine : dot(receiver.normal, d) / r1;
-      const double cy = source.isCluster ? kIsotropicCosine : -dot(source.normal, d) / r1;
+      const double cx = receiver.isCluster ? kClusterCosine : dot(receiver.normal, d) / r1;
+      const double cy = source.isCluster ? kClusterCosine : -dot(source.normal, d) / r1;
       if (cx > 0 && cy > 0) transfers[i][j] = sourceArea * cx * cy / (std::numbers::pi * r2);
       cubatureSum += source.weights[j] * transfers[i][j];
     }
@@ -170,10 +182,17 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       const double exact = pointToElementFormFactor(x, receiver.normal, elements_[s.index].shape);
       for (int j = 0; j < source.count; ++j)
         transfers[i][j] = cubatureSum > 0 ? transfers[i][j] * (exact / cubatureSum) : exact;
+      if (receiverCovered[i])
+        for (int j = 0; j < source.count; ++j) transfers[i][j] = 0;
+      for (int j = 0; j < source.count; ++j)
+        if (sourceCovered[j]) transfers[i][j] = 0;
     } else {
-      // At most 1 where a pair's points nearly meet: the bare kernel would send more than the
-      // source emits.
-      for (int j = 0; j < source.count; ++j) transfers[i][j] = std::min(1.0, transfers[i][j]);
+      // A pair's transfer is at most what a source facing the receiver wholly would send (1, in
+      // units of the cluster cosines): where the points nearly meet the bare kernel would send
+      // more than the source emits.
+      const double most =
+          (receiver.isCluster ? kClusterCosine : 1) * (source.isCluster ? kClusterCosine : 1);
+      for (int j = 0; j < source.count; ++j) transfers[i][j] = std::min(most, transfers[i][j]);
     }
   }
   Estimate e;
@@ -185,8 +204,8 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       ++counters.pointPairs;
       double transfer = transfers[i][j];
       if (transfer > 0 && mayBeHidden) {
-        // A cluster is transparent to its own contents (its isotropic emission already accounts
-        // for them): the part of the segment inside a cluster end's box is not tested.
+        // A cluster is transparent to its own contents (its lobes already say which way they
+        // face): the part of the segment inside a cluster end's box is not tested.
         const Vec3 d = y - x;
         double from = 0, to = 1;
         if (receiver.isCluster) from = insideBox(receiver.box, x, y).second;
@@ -206,6 +225,14 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   }
   e.meanTransfer = e.k[0];
   e.spread = highest - lowest;
+  // A cluster end's coefficient in its own units: per unit of the exitance a source cluster's
+  // lobes send (B A, so without its area and cosine), as the flux density arriving at a receiver
+  // cluster (its lobes take the cosines of its surfaces).
+  const double scale = (s.isCluster() ? 1 / (kClusterCosine * sourceArea) : 1) *
+                       (r.isCluster() ? 1 / kClusterCosine : 1);
+  for (double& k : e.k) k *= scale;
+  const Vec3 between = bounds(s).center() - bounds(r).center();
+  e.direction = length(between) > 0 ? normalize(between) : Vec3{0, 0, 1};
   return e;
 }
 

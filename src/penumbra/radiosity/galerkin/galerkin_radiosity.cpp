@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "penumbra/base/check.h"
+#include "penumbra/radiosity/face_contacts.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/hierarchy_building.h"
 #include "penumbra/spatial/dynamic_scene.h"
@@ -42,6 +43,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
 
   const std::vector<Element> roots = rootElements(scene_, polygonRoots_);
   CHECK(!roots.empty());
+  contacts_ = faceContacts(scene_);
   double totalArea = 0, emittedPower = 0;
   elements_.reserve(roots.size() * 4);
   for (const Element& root : roots) {
@@ -56,6 +58,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
     totalArea += e.area;
     emittedPower += e.area * e.node.emission.maxComponent();
   }
+  for (GElement& e : elements_) e.cover = coverOf(e);
   ClusterHierarchy hierarchy = buildClusterHierarchy(roots);
   clusters_.resize(hierarchy.clusters.size());
   for (size_t i = 0; i < clusters_.size(); ++i)
@@ -91,6 +94,23 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   for (const GElement& e : elements_) stats_.leaves += e.isLeaf() ? 1 : 0;
   for (const GLink& l : links_) (l.active ? stats_.activeLinks : stats_.passiveLinks) += 1;
   stats_.totalSeconds = elapsedSeconds(start);
+}
+
+bool GalerkinRadiosity::isCovered(PolygonId polygon, const Vec3& x) const {
+  for (PolygonId partner : contacts_[polygon])
+    for (int root : polygonRoots_[partner])
+      if (elements_[root].shape.insideness(x) > 0) return true;
+  return false;
+}
+
+GalerkinRadiosity::GElement::Cover GalerkinRadiosity::coverOf(const GElement& e) const {
+  if (contacts_[e.polygon].empty()) return GElement::kExposed;
+  const Cubature rule = linkCubature(e.shape);
+  int covered = isCovered(e.polygon, e.shape.centroid()) ? 1 : 0;
+  for (int i = 0; i < rule.count; ++i) covered += isCovered(e.polygon, rule.points[i]) ? 1 : 0;
+  return covered == 0                ? GElement::kExposed
+         : covered == rule.count + 1 ? GElement::kCovered
+                                     : GElement::kPartlyCovered;
 }
 
 std::optional<int> GalerkinRadiosity::leafContaining(const Vec3& point, const Vec3& normal) const {

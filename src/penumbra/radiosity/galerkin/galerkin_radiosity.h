@@ -1,20 +1,19 @@
 #pragma once
-// Hierarchical Galerkin radiosity with linear elements and isotropic clusters: the fast static
+// Hierarchical Galerkin radiosity with linear elements and directional clusters: the fast static
 // solver core (issue 22).
 //
 //  - Elements carry linear functions (three coefficients in an orthonormal basis, linear_basis.h;
-//    Zatz 1993; Gortler, Schröder, Cohen & Hanrahan 1993), clusters a constant (isotropic
-//    clusters: Sillion 1995; Smits, Arvo & Greenberg 1994).
+//    Zatz 1993; Gortler, Schröder, Cohen & Hanrahan 1993). Clusters (Sillion 1995; Smits, Arvo &
+//    Greenberg 1994) send and receive on six axis lobes (axis_lobes.h): which way their surfaces
+//    face, not only how much area they hold.
 //  - A link's coefficients K[β][α] = (1/A_r) ∫_r ∫_s k(x, y) V(x, y) φ_β(x) φ_α(y) come from
 //    cubature over point pairs (2 x 2 Gauss on quadrilaterals, 3 points on triangles; 4 fixed
 //    points in a cluster's box), with 0/1 visibility along each pair: a ray only where a polygon
 //    lies in the link's shaft, the candidates handed down from parent link to child link.
-//    The kernel k = c_x c_y / (π r²), where an element's c is its cosine and a cluster's is 1/4
-//    (the mean of max(0, cos θ) over directions: a cluster emits and receives as a cloud of
-//    randomly oriented surfaces).
-//  - Refinement by a power oracle: a link is refined when ρ_r A_r B_s,max times the spread of its
-//    point-pair transfers (plus the whole transfer when a cluster's isotropy is assumed) exceeds
-//    tolerance x the emitted power; the larger end is split.
+//    Between elements each receiver point's row is scaled to its exact point form factor.
+//  - Refinement by a power oracle: a link is refined when A_r B_s,max times the spread of its
+//    point-pair transfers (plus the whole transfer at a cluster end or a partly covered element)
+//    exceeds tolerance x the emitted power; the larger end is split.
 //  - Jacobi gathering with push-pull; irradiance from emission ("direct") and from reflected
 //    radiosity ("indirect") kept apart. The solution shown at a point is the linear function of
 //    the leaf that holds it: no final gather.
@@ -26,6 +25,7 @@
 #include <vector>
 
 #include "penumbra/radiosity/cluster.h"
+#include "penumbra/radiosity/galerkin/axis_lobes.h"
 #include "penumbra/radiosity/galerkin/linear_basis.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/posed_scene.h"
@@ -102,17 +102,30 @@ class GalerkinRadiosity {
     double area = 0;
     Rgb reflectance;
     Node node;
+    // How much of it a polygon in face-to-face contact covers (face_contacts.h), judged at its
+    // link cubature points and centroid: a covered point sees only the covering polygon.
+    enum Cover : std::uint8_t { kExposed, kPartlyCovered, kCovered };
+    Cover cover = kExposed;
     bool isLeaf() const { return firstChild < 0; }
   };
   struct GCluster {
     ClusterNode structure;
     Node node;
+    // What the cluster's surfaces send (B A per lobe: emission, and reflected radiosity pulled
+    // up), and what arrived over the cluster's own links and from the clusters above it, on the
+    // six axis lobes (axis_lobes.h); the node's linear functions hold only area means.
+    AxisLobes emittedLobes{}, reflectedLobes{};
+    AxisLobes gatheredDirectLobes{}, gatheredIndirectLobes{};
   };
   struct GLink {
     NodeRef receiver, source;
-    std::array<double, 9> k{};  // K[β][α], β over the receiver's basis, α over the source's
-    float meanTransfer = 0;     // the mean point-pair transfer (K[0][0])
-    float spread = 0;           // max − min of the point-pair transfers
+    // K[β][α], β over the receiver's basis, α over the source's. A cluster end has one
+    // coefficient: a cluster source's is per unit of the exitance its lobes send towards the
+    // receiver, a cluster receiver's is the flux density arriving along `direction`.
+    std::array<double, 9> k{};
+    Vec3 direction;          // unit, from the receiver's centre to the source's (for cluster ends)
+    float meanTransfer = 0;  // the mean point-pair transfer (K[0][0])
+    float spread = 0;        // max − min of the point-pair transfers
     bool active = true;
   };
   const std::vector<GElement>& elements() const { return elements_; }
@@ -144,11 +157,19 @@ class GalerkinRadiosity {
   Node& nodeOf(NodeRef n);
   const Node& nodeOf(NodeRef n) const;
   void pullEmission(NodeRef n);
+  // Adds a child's exitance on the lobes: its emission, or (`emitted` false) its reflected
+  // radiosity.
+  void addLobes(AxisLobes& lobes, NodeRef child, bool emitted) const;
   void solve();
-  // Pushes what `n` gathered (plus `direct`, `indirect` from above, in n's basis) down to the
-  // leaves, sets B there and pulls it back up; returns the largest change of a leaf's B.
-  double pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect);
+  // Pushes what `n` gathered (plus `direct`, `indirect` from element ancestors, in n's basis,
+  // and the lobes of cluster ancestors) down to the leaves, sets B there and pulls it back up;
+  // returns the largest change of a leaf's B.
+  double pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,
+                  const AxisLobes& directLobes, const AxisLobes& indirectLobes);
   std::optional<int> leafContaining(const Vec3& point, const Vec3& normal) const;
+  // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it?
+  bool isCovered(PolygonId polygon, const Vec3& x) const;
+  GElement::Cover coverOf(const GElement& e) const;
 
   GalerkinOptions options_;
   PosedScene scene_;
@@ -156,7 +177,8 @@ class GalerkinRadiosity {
   const RayCaster* rays_ = nullptr;
   std::vector<GElement> elements_;
   std::vector<std::vector<int>> polygonRoots_;
-  std::vector<GCluster> clusters_;  // [0] is the root
+  std::vector<std::vector<PolygonId>> contacts_;  // polygons in face-to-face contact with each
+  std::vector<GCluster> clusters_;                // [0] is the root
   std::vector<GLink> links_;
   double threshold_ = 0;  // tolerance x emitted power
   double minArea_ = 0;

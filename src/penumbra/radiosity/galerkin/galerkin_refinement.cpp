@@ -25,6 +25,11 @@ InputError budgetExceeded(double tolerance, const char* what, long long limit) {
 double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, double spread) const {
   double variation = spread;
   if (r.isCluster() || s.isCluster()) variation += meanTransfer;
+  // A partly covered end: the covered part's share goes to (or comes from) the exposed part.
+  const auto partlyCovered = [&](NodeRef n) {
+    return n.isElement() && elements_[n.index].cover == GElement::kPartlyCovered;
+  };
+  if (partlyCovered(r) || partlyCovered(s)) variation += meanTransfer;
   return area(r) * nodeOf(s).maxRadiosity * variation;
 }
 
@@ -66,6 +71,7 @@ int GalerkinRadiosity::splitElement(int index) {
     for (int alpha = 0; alpha < 3; ++alpha)
       for (int beta = 0; beta < 3; ++beta)
         child.node.radiosity[alpha] += parent.node.radiosity[beta] * child.fromParent[beta][alpha];
+    child.cover = parent.cover == GElement::kPartlyCovered ? coverOf(child) : parent.cover;
     elements_.push_back(child);
   }
   elements_[index].firstChild = first;
@@ -102,6 +108,7 @@ void GalerkinRadiosity::refine(NodeRef r, NodeRef s, const std::vector<PolygonId
   link.receiver = r;
   link.source = s;
   link.k = e.k;
+  link.direction = e.direction;
   link.meanTransfer = float(e.meanTransfer);
   link.spread = float(e.spread);
   links_.push_back(link);

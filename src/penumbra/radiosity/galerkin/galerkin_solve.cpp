@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "penumbra/radiosity/galerkin/axis_lobes.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 
 namespace penumbra {
@@ -23,52 +24,88 @@ double upperBound(const LinearRgb& c, double reach) {
 }  // namespace
 
 void GalerkinRadiosity::pullEmission(NodeRef n) {
-  Node& node = nodeOf(n);
   if (n.isElement()) {
-    const GElement& e = elements_[n.index];
-    node.radiosity = {node.emission, Rgb{}, Rgb{}};
-    node.maxRadiosity = node.emission.maxComponent();
-    node.maxReflectance = e.reflectance.maxComponent();
+    GElement& e = elements_[n.index];
+    e.node.radiosity = {e.node.emission, Rgb{}, Rgb{}};
+    e.node.maxRadiosity = e.node.emission.maxComponent();
+    e.node.maxReflectance = e.reflectance.maxComponent();
     return;
   }
-  const ClusterNode& cluster = clusters_[n.index].structure;
   Rgb emission;
   double maxRadiosity = 0, maxReflectance = 0;
-  for (NodeRef child : cluster.children) {
+  AxisLobes lobes{};
+  for (NodeRef child : clusters_[n.index].structure.children) {
     pullEmission(child);
     const Node& c = nodeOf(child);
     emission += c.emission * area(child);
     maxRadiosity = std::max(maxRadiosity, c.maxRadiosity);
     maxReflectance = std::max(maxReflectance, c.maxReflectance);
+    addLobes(lobes, child, true);
   }
-  Node& again = nodeOf(n);  // children recursed; clusters_ does not grow, but stay explicit
-  again.emission = cluster.area > 0 ? emission / cluster.area : Rgb{};
-  again.radiosity = {again.emission, Rgb{}, Rgb{}};
-  again.maxRadiosity = maxRadiosity;
-  again.maxReflectance = maxReflectance;
+  GCluster& cluster = clusters_[n.index];
+  cluster.node.emission = cluster.structure.area > 0 ? emission / cluster.structure.area : Rgb{};
+  cluster.node.radiosity = {cluster.node.emission, Rgb{}, Rgb{}};
+  cluster.node.maxRadiosity = maxRadiosity;
+  cluster.node.maxReflectance = maxReflectance;
+  cluster.emittedLobes = lobes;
+}
+
+void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) const {
+  if (child.isCluster()) {
+    const GCluster& c = clusters_[child.index];
+    const AxisLobes& from = emitted ? c.emittedLobes : c.reflectedLobes;
+    for (int f = 0; f < 6; ++f) lobes[f] += from[f];
+    return;
+  }
+  const GElement& e = elements_[child.index];
+  // An element's exitance on the lobes: emission, or its mean reflected radiosity.
+  const Rgb exitance = emitted ? e.node.emission : e.node.radiosity[0] - e.node.emission;
+  const std::array<double, 6> shares = exitanceShares(e.shape.normal);
+  for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * shares[f]);
 }
 
 void GalerkinRadiosity::solve() {
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     for (GElement& e : elements_) e.node.gatheredDirect = e.node.gatheredIndirect = {};
     for (GCluster& c : clusters_) c.node.gatheredDirect = c.node.gatheredIndirect = {};
+    for (GCluster& c : clusters_) c.gatheredDirectLobes = c.gatheredIndirectLobes = {};
     for (const GLink& link : links_) {
       if (!link.active) continue;
-      const Node& source = nodeOf(link.source);
-      const LinearRgb emitted{source.emission, Rgb{}, Rgb{}};
-      LinearRgb reflected = source.radiosity;
-      reflected[0] = reflected[0] - source.emission;
-      Node& receiver = nodeOf(link.receiver);
+      // What the source sends, per unit of the link's coefficients: an element's linear
+      // functions; a cluster's lobes towards the receiver.
+      LinearRgb emitted{}, reflected{};
+      if (link.source.isCluster()) {
+        const GCluster& source = clusters_[link.source.index];
+        emitted[0] = exitanceToward(source.emittedLobes, link.direction * -1.0);
+        reflected[0] = exitanceToward(source.reflectedLobes, link.direction * -1.0);
+      } else {
+        const Node& source = elements_[link.source.index].node;
+        emitted[0] = source.emission;
+        reflected = source.radiosity;
+        reflected[0] = reflected[0] - source.emission;
+      }
       const int rows = link.receiver.isCluster() ? 1 : 3;
       const int columns = link.source.isCluster() ? 1 : 3;
+      LinearRgb direct{}, indirect{};
       for (int beta = 0; beta < rows; ++beta)
         for (int alpha = 0; alpha < columns; ++alpha) {
           const double k = link.k[beta * 3 + alpha];
-          receiver.gatheredDirect[beta] += emitted[alpha] * k;
-          receiver.gatheredIndirect[beta] += reflected[alpha] * k;
+          direct[beta] += emitted[alpha] * k;
+          indirect[beta] += reflected[alpha] * k;
         }
+      if (link.receiver.isCluster()) {
+        GCluster& receiver = clusters_[link.receiver.index];
+        addArriving(receiver.gatheredDirectLobes, direct[0], link.direction);
+        addArriving(receiver.gatheredIndirectLobes, indirect[0], link.direction);
+      } else {
+        Node& receiver = elements_[link.receiver.index].node;
+        for (int beta = 0; beta < 3; ++beta) {
+          receiver.gatheredDirect[beta] += direct[beta];
+          receiver.gatheredIndirect[beta] += indirect[beta];
+        }
+      }
     }
-    const double change = pushPull({NodeRef::kCluster, 0}, {}, {});
+    const double change = pushPull({NodeRef::kCluster, 0}, {}, {}, {}, {});
     ++stats_.iterations;
     // Against the largest reflected radiosity, not B: a lamp's emission can be a hundred times
     // what the walls reflect, and measured against it the indirect light stopped 1% short.
@@ -80,24 +117,37 @@ void GalerkinRadiosity::solve() {
   }
 }
 
-double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect) {
+double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,
+                                   const AxisLobes& directLobes, const AxisLobes& indirectLobes) {
   if (n.isCluster()) {
     GCluster& cluster = clusters_[n.index];
-    const Rgb d = direct[0] + cluster.node.gatheredDirect[0];
-    const Rgb i = indirect[0] + cluster.node.gatheredIndirect[0];
-    cluster.node.irradianceDirect = {d, Rgb{}, Rgb{}};
-    cluster.node.irradianceIndirect = {i, Rgb{}, Rgb{}};
+    AxisLobes d = directLobes, i = indirectLobes;
+    for (int f = 0; f < 6; ++f) {
+      d[f] += cluster.gatheredDirectLobes[f];
+      i[f] += cluster.gatheredIndirectLobes[f];
+    }
     double change = 0, maxRadiosity = 0;
     Rgb radiosity;
+    AxisLobes reflected{};
     for (NodeRef child : cluster.structure.children) {
-      change = std::max(change, pushPull(child, {d, Rgb{}, Rgb{}}, {i, Rgb{}, Rgb{}}));
+      if (child.isCluster()) {
+        change = std::max(change, pushPull(child, {}, {}, d, i));
+      } else {
+        // A root element takes what arrived on the lobes as it faces.
+        const Vec3& normal = elements_[child.index].shape.normal;
+        change = std::max(change, pushPull(child, {irradianceOn(d, normal), Rgb{}, Rgb{}},
+                                           {irradianceOn(i, normal), Rgb{}, Rgb{}}, {}, {}));
+      }
       const Node& c = nodeOf(child);
       radiosity += c.radiosity[0] * area(child);
       maxRadiosity = std::max(maxRadiosity, c.maxRadiosity);
+      addLobes(reflected, child, false);
     }
-    cluster.node.radiosity = {
-        cluster.structure.area > 0 ? radiosity / cluster.structure.area : Rgb{}, Rgb{}, Rgb{}};
-    cluster.node.maxRadiosity = maxRadiosity;
+    GCluster& again = clusters_[n.index];
+    again.node.radiosity = {again.structure.area > 0 ? radiosity / again.structure.area : Rgb{},
+                            Rgb{}, Rgb{}};
+    again.node.maxRadiosity = maxRadiosity;
+    again.reflectedLobes = reflected;
     return change;
   }
   GElement& e = elements_[n.index];
@@ -133,7 +183,7 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const Lin
         childD[alpha] += d[beta] * t[beta][alpha];
         childI[alpha] += i[beta] * t[beta][alpha];
       }
-    change = std::max(change, pushPull({NodeRef::kElement, c}, childD, childI));
+    change = std::max(change, pushPull({NodeRef::kElement, c}, childD, childI, {}, {}));
     const GElement& child = elements_[c];
     const double share = child.area / parentArea;
     for (int beta = 0; beta < 3; ++beta)

@@ -1,0 +1,52 @@
+#pragma once
+// Directional radiometry of a cluster on the six axis directions (+x, −x, +y, −y, +z, −z): what a
+// cluster of surfaces sends and receives depends on which way its surfaces face. An isotropic
+// cluster (the mean of max(0, cos θ) over directions, 1/4, for every surface) sends half of a
+// floor's light downwards, where nothing receives it: 3-5% of the energy lost per bounce in the
+// chair room under its lamp. On the lobes a surface facing an axis is exact, and a tilted one
+// is shared between the axes its normal leans to (Σ_k |n_k| normalised, so energy is kept).
+
+#include <array>
+#include <cmath>
+
+#include "penumbra/base/rgb.h"
+#include "penumbra/geometry/vec3.h"
+
+namespace penumbra {
+
+// Lobe 2k is the +axis k, lobe 2k + 1 the −axis k.
+using AxisLobes = std::array<Rgb, 6>;
+
+// How a surface of unit normal n shares its exitance among the lobes (summing to 1).
+inline std::array<double, 6> exitanceShares(const Vec3& n) {
+  const double sum = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+  std::array<double, 6> shares{};
+  for (int k = 0; k < 3; ++k) {
+    shares[2 * k] = n[k] > 0 ? n[k] / sum : 0;
+    shares[2 * k + 1] = n[k] < 0 ? -n[k] / sum : 0;
+  }
+  return shares;
+}
+
+// The power per unit projected solid angle (B A cos for one surface) the lobes send in the unit
+// direction w: Σ_k |w_k| lobe(k, sign w_k). Exact for a surface facing an axis.
+inline Rgb exitanceToward(const AxisLobes& lobes, const Vec3& w) {
+  Rgb sum;
+  for (int k = 0; k < 3; ++k) sum += lobes[2 * k + (w[k] < 0 ? 1 : 0)] * std::abs(w[k]);
+  return sum;
+}
+
+// Flux density `flux` arriving from the unit direction u (pointing towards its source): a
+// surface facing u receives all of it, one facing an axis |u_k| of it.
+inline void addArriving(AxisLobes& lobes, const Rgb& flux, const Vec3& u) {
+  for (int k = 0; k < 3; ++k) lobes[2 * k + (u[k] < 0 ? 1 : 0)] += flux * std::abs(u[k]);
+}
+
+// The irradiance on a surface of unit normal n from what arrived on the lobes.
+inline Rgb irradianceOn(const AxisLobes& lobes, const Vec3& n) {
+  Rgb sum;
+  for (int k = 0; k < 3; ++k) sum += lobes[2 * k + (n[k] < 0 ? 1 : 0)] * std::abs(n[k]);
+  return sum;
+}
+
+}  // namespace penumbra
