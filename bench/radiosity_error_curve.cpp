@@ -172,6 +172,7 @@ void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points,
                  const Options& o) {
   GalerkinOptions options;
   options.tolerance = tolerance;
+  options.threads = o.threads;
   GalerkinRadiosity solver(options);
   const auto start = std::chrono::steady_clock::now();
   solver.build(live);

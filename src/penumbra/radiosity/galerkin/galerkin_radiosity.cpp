@@ -72,10 +72,10 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
     const auto refineStart = std::chrono::steady_clock::now();
     bool refined = false;
     if (pass == 0) {
-      std::vector<PolygonId> all(scene_.polygons.size());
-      for (size_t i = 0; i < all.size(); ++i) all[i] = PolygonId(i);
+      auto all = std::make_shared<std::vector<PolygonId>>(scene_.polygons.size());
+      for (size_t i = 0; i < all->size(); ++i) (*all)[i] = PolygonId(i);
       const NodeRef root{NodeRef::kCluster, 0};
-      refine(root, root, all, counters);
+      refine({{root, root, all}}, counters);
       refined = true;
     } else {
       refined = refineActiveLinks(counters);

@@ -21,6 +21,7 @@
 // Units: B, M in W/m²; irradiance in W/m²; B = M + ρ E (DESIGN.md §5).
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -46,6 +47,8 @@ struct GalerkinOptions {
   int maxIterations = 200;
   long long maxLinks = 1'000'000;  // refinement's budget (an input error past it)
   long long maxElements = 1'000'000;
+  // Worker threads for link estimation (0: all cores); the result does not depend on it.
+  int threads = 1;
 };
 
 struct GalerkinStats {
@@ -144,8 +147,15 @@ class GalerkinRadiosity {
                                          const std::vector<PolygonId>& among) const;
   std::vector<PolygonId> gridCandidates(NodeRef r, NodeRef s) const;
   double oracle(NodeRef r, NodeRef s, double meanTransfer, double spread) const;
-  // Refines the interaction of r with s (r gathers from s) until the oracle is satisfied.
-  void refine(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates, Counters& counters);
+  // The interactions of receivers with sources still to estimate and refine, each with the
+  // occluder candidates of the link it comes from (shared: a split hands them to every child).
+  using Candidates = std::shared_ptr<const std::vector<PolygonId>>;
+  struct RefineTask {
+    NodeRef receiver, source;
+    Candidates candidates;
+  };
+  // Refines the tasks' interactions until the oracle is satisfied (refinement.cpp).
+  void refine(std::vector<RefineTask> wave, Counters& counters);
   bool refineActiveLinks(Counters& counters);
   // Splits the element (once) and returns its first child.
   int splitElement(int element);

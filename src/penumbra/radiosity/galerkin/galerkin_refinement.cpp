@@ -1,8 +1,10 @@
 // Galerkin refinement: the power oracle, splitting the larger end of a link, element subdivision.
 
+#include <memory>
 #include <sstream>
 
 #include "penumbra/base/input_error.h"
+#include "penumbra/base/parallel_for.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 
 namespace penumbra {
@@ -78,44 +80,73 @@ int GalerkinRadiosity::splitElement(int index) {
   return first;
 }
 
-void GalerkinRadiosity::refine(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates,
-                               Counters& counters) {
-  if (!canExchange(r, s)) return;
-  if (r == s) {  // a cluster with itself: every pair of its children
-    const std::vector<NodeRef> parts = children(r);
-    for (NodeRef a : parts)
-      for (NodeRef b : parts) refine(a, b, candidates, counters);
-    return;
-  }
-  const std::vector<PolygonId> own = shaftCandidates(r, s, candidates);
-  const Estimate e = estimate(r, s, own, counters);
-  if (oracle(r, s, e.meanTransfer, e.spread) > threshold_) {
-    const bool receiverLarger = size(r) >= size(s);
-    const bool splitReceiver = receiverLarger ? canSplit(r) : !canSplit(s) && canSplit(r);
-    const bool splitSource = !splitReceiver && canSplit(s);
-    if (splitReceiver) {
-      for (NodeRef child : children(r)) refine(child, s, own, counters);
-      return;
+// Refinement runs in waves, breadth first: each wave's node pairs are estimated in parallel
+// (reading the hierarchy only), then decided in order on one thread, which splits elements,
+// appends links and queues the next wave. So the hierarchy and the links' order are the same for
+// any number of threads.
+void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters) {
+  struct Outcome {
+    bool exchanges = false;
+    Candidates own;
+    Estimate estimate;
+    Counters counters;
+  };
+  while (!wave.empty()) {
+    std::vector<Outcome> outcomes(wave.size());
+    parallelFor((long long)wave.size(), options_.threads, [&](long long i) {
+      const RefineTask& task = wave[i];
+      Outcome& out = outcomes[i];
+      out.exchanges = canExchange(task.receiver, task.source);
+      if (!out.exchanges || task.receiver == task.source) return;
+      out.own = std::make_shared<const std::vector<PolygonId>>(
+          shaftCandidates(task.receiver, task.source, *task.candidates));
+      out.estimate = estimate(task.receiver, task.source, *out.own, out.counters);
+    });
+    std::vector<RefineTask> next;
+    for (size_t i = 0; i < wave.size(); ++i) {
+      const NodeRef r = wave[i].receiver, s = wave[i].source;
+      Outcome& out = outcomes[i];
+      counters.pointPairs += out.counters.pointPairs;
+      counters.visibilityRays += out.counters.visibilityRays;
+      counters.unoccludedLinks += out.counters.unoccludedLinks;
+      if (!out.exchanges) continue;
+      if (r == s) {  // a cluster with itself: every pair of its children
+        const std::vector<NodeRef> parts = children(r);
+        for (NodeRef a : parts)
+          for (NodeRef b : parts) next.push_back({a, b, wave[i].candidates});
+        continue;
+      }
+      const Estimate& e = out.estimate;
+      if (oracle(r, s, e.meanTransfer, e.spread) > threshold_) {
+        const bool receiverLarger = size(r) >= size(s);
+        const bool splitReceiver = receiverLarger ? canSplit(r) : !canSplit(s) && canSplit(r);
+        const bool splitSource = !splitReceiver && canSplit(s);
+        if (splitReceiver) {
+          for (NodeRef child : children(r)) next.push_back({child, s, out.own});
+          continue;
+        }
+        if (splitSource) {
+          for (NodeRef child : children(s)) next.push_back({r, child, out.own});
+          continue;
+        }
+      }
+      if ((long long)links_.size() >= options_.maxLinks)
+        throw budgetExceeded(options_.tolerance, "links", options_.maxLinks);
+      GLink link;
+      link.receiver = r;
+      link.source = s;
+      link.k = e.k;
+      link.direction = e.direction;
+      link.meanTransfer = float(e.meanTransfer);
+      link.spread = float(e.spread);
+      links_.push_back(link);
     }
-    if (splitSource) {
-      for (NodeRef child : children(s)) refine(r, child, own, counters);
-      return;
-    }
+    wave = std::move(next);
   }
-  if ((long long)links_.size() >= options_.maxLinks)
-    throw budgetExceeded(options_.tolerance, "links", options_.maxLinks);
-  GLink link;
-  link.receiver = r;
-  link.source = s;
-  link.k = e.k;
-  link.direction = e.direction;
-  link.meanTransfer = float(e.meanTransfer);
-  link.spread = float(e.spread);
-  links_.push_back(link);
 }
 
 bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
-  bool refined = false;
+  std::vector<RefineTask> wave;
   const size_t count = links_.size();
   for (size_t i = 0; i < count; ++i) {
     const GLink link = links_[i];
@@ -123,18 +154,20 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
     if (oracle(link.receiver, link.source, link.meanTransfer, link.spread) <= threshold_) continue;
     if (!canSplit(link.receiver) && !canSplit(link.source)) continue;
     links_[i].active = false;
-    refined = true;
-    const std::vector<PolygonId> candidates = gridCandidates(link.receiver, link.source);
+    const Candidates candidates = std::make_shared<const std::vector<PolygonId>>(
+        gridCandidates(link.receiver, link.source));
     const bool receiverLarger = size(link.receiver) >= size(link.source);
     const bool splitReceiver = receiverLarger ? canSplit(link.receiver) : !canSplit(link.source);
     if (splitReceiver)
       for (NodeRef child : children(link.receiver))
-        refine(child, link.source, candidates, counters);
+        wave.push_back({child, link.source, candidates});
     else
       for (NodeRef child : children(link.source))
-        refine(link.receiver, child, candidates, counters);
+        wave.push_back({link.receiver, child, candidates});
   }
-  return refined;
+  if (wave.empty()) return false;
+  refine(std::move(wave), counters);
+  return true;
 }
 
 }  // namespace penumbra
