@@ -396,6 +396,14 @@ TEST(Cli, RadiosityStopsAtItsBudget) {
     const RunResult r = runPenumbra("radiosity " + scene + " --frames 0:0 --max-links " + value);
     EXPECT_EQ(r.exitCode, 1) << value << ": " << r.output;
   }
+  // The Galerkin core keeps the same budget.
+  test::TempDir dir;
+  const std::string points = dir.write("p.txt", "0.3 0 0.1 0 1 0\n");
+  const RunResult galerkin = runPenumbra("probe " + scene + " --points " + points +
+                                         " --method galerkin --tolerance 1e-9 --max-links 5000");
+  EXPECT_EQ(galerkin.exitCode, 2) << galerkin.output;
+  EXPECT_NE(galerkin.output.find("5000 links"), std::string::npos) << galerkin.output;
+  EXPECT_NE(galerkin.output.find("--max-links"), std::string::npos) << galerkin.output;
 }
 
 // Numbers that used to be accepted silently: a negative frame range, a NaN tolerance, an integer
@@ -629,9 +637,11 @@ TEST(Cli, MalformedScenesAreBadInputForEveryVerb) {
     for (const std::string& verb :
          {"render " + scene + " --method raytrace --size 16x12 -o " + png,
           "render " + scene + " --method radiosity --tolerance 1e-2 --size 16x12 -o " + png,
+          "render " + scene + " --method galerkin --tolerance 1e-2 --size 16x12 -o " + png,
           "shadows " + scene, "shadows " + scene + " --mode verify", "radiosity " + scene,
           "probe " + scene + " --points " + points,
-          "probe " + scene + " --points " + points + " --method combined"}) {
+          "probe " + scene + " --points " + points + " --method combined",
+          "probe " + scene + " --points " + points + " --method galerkin"}) {
       const RunResult r = runPenumbra(verb);
       EXPECT_EQ(r.exitCode, 2) << verb << ": " << r.output;
       EXPECT_NE(r.output.find(where), std::string::npos) << verb << ": " << r.output;
@@ -768,8 +778,12 @@ std::string cornellPoints(const test::TempDir& dir) {
   return dir.write("cornell-points.txt", text);
 }
 
-const std::vector<std::string> kProbeMethods = {
-    "reference", "montecarlo", "dm", "radiosity --tolerance 1e-2", "combined --tolerance 1e-2"};
+const std::vector<std::string> kProbeMethods = {"reference",
+                                                "montecarlo",
+                                                "dm",
+                                                "radiosity --tolerance 1e-2",
+                                                "combined --tolerance 1e-2",
+                                                "galerkin --tolerance 1e-3"};
 
 // Results do not depend on --threads: every method's CSV is the same byte for byte on one thread
 // and on two (work is split by point, by wave of links and by receiver; seeds come from

@@ -55,7 +55,8 @@ std::string probePoints(const Scene& scene, int frame) {
 
 std::string probe(const std::string& scene, const std::string& points, const char* method,
                   int frame, bool full) {
-  const bool radiosity = std::string(method) == "radiosity" || std::string(method) == "combined";
+  const bool radiosity = std::string(method) == "radiosity" || std::string(method) == "combined" ||
+                         std::string(method) == "galerkin";
   const std::string extra = radiosity                             ? " --tolerance 1e-2"
                             : std::string(method) == "montecarlo" ? " --samples 16 --batches 2"
                                                                   : "";
@@ -92,18 +93,19 @@ INSTANTIATE_TEST_SUITE_P(
     BundledMotion, UpdateEqualsFull,
     testing::Values(
         Case{"cornell-box/cornell-box.json",
-             {"reference", "dm", "radiosity", "combined", "montecarlo"}},
+             {"reference", "dm", "radiosity", "galerkin", "combined", "montecarlo"}},
         Case{"cornell-box/cornell-mirror.json", {"reference", "dm"}},
         // Three objects move at each step, the light among them.
-        Case{"cornell-box/cornell-everything-moves.json", {"reference", "dm", "radiosity"}},
+        Case{"cornell-box/cornell-everything-moves.json",
+             {"reference", "dm", "radiosity", "galerkin"}},
         Case{"gltf/animated-box.gltf", {"reference", "dm", "radiosity", "combined", "montecarlo"}},
         Case{"office-desk/desk-145.json", {"reference", "dm", "montecarlo"}},
         Case{"office-desk/desk-145-close.json", {"reference", "dm"}},
         Case{"office-desk/desk-307.json", {"reference", "dm"}},
         Case{"office-desk/desk-475.json", {"reference", "dm"}},
-        Case{"chair-room/chair-room.json", {"reference", "dm", "radiosity"}},
+        Case{"chair-room/chair-room.json", {"reference", "dm", "radiosity", "galerkin"}},
         // 4 s per DM frame: its DM walk is left to `shadows --mode verify` runs.
-        Case{"chair-room/furnished-room.json", {"reference", "montecarlo"}}),
+        Case{"chair-room/furnished-room.json", {"reference", "montecarlo", "galerkin"}}),
     [](const testing::TestParamInfo<Case>& info) {
       std::string name = info.param.scene;
       for (char& ch : name)

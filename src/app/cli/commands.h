@@ -10,6 +10,7 @@
 
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/render/shadow_volume_renderer.h"
 
@@ -31,6 +32,18 @@ struct CommonOptions {
 inline RadiosityOptions withThreads(RadiosityOptions options, const CommonOptions& common) {
   options.threads = common.threads;
   return options;
+}
+
+// The Galerkin core (probe and render --method galerkin) takes the radiosity options it shares:
+// the tolerance, the budget and the global --threads.
+inline GalerkinOptions galerkinOptions(const RadiosityOptions& options,
+                                       const CommonOptions& common) {
+  GalerkinOptions galerkin;
+  galerkin.tolerance = options.tolerance;
+  galerkin.maxLinks = options.maxLinks;
+  galerkin.maxElements = options.maxElements;
+  galerkin.threads = common.threads;
+  return galerkin;
 }
 
 struct InfoOptions {

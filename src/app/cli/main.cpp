@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
       ->required();
   probeCommand->add_option("--frame", probe.frame, "Frame of the scene's motion");
   probeCommand->add_option("--method", probe.method,
-                           "reference | montecarlo | dm | radiosity | combined");
+                           "reference | montecarlo | dm | radiosity | galerkin | combined");
   probeCommand->add_flag("--full", probe.full, "Recompute the frame from scratch (no update)");
   probeCommand->add_option("--report", probe.report,
                            "Write JSON: points, seconds, and for dm how each was answered "
@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
   renderCommand->add_option("scene", render.scene, "Scene file")->required();
   renderCommand->add_option("--frame", render.frame, "Frame of the scene's motion");
   renderCommand
-      ->add_option("--method", render.method, "raytrace | dm | radiosity | combined | volumes")
+      ->add_option("--method", render.method,
+                   "raytrace | dm | radiosity | galerkin | combined | volumes")
       ->required();
   renderCommand->add_option("-o,--output", render.output, "Output PNG")->required();
   renderCommand->add_option("--size", render.size, "WxH (default: the scene camera's)");

@@ -54,10 +54,11 @@ void printCsv(const std::vector<ProbePoint>& points, const std::vector<ProbeResu
 
 int runProbe(const ProbeOptions& options, const CommonOptions& common) {
   if (options.method != "reference" && options.method != "montecarlo" &&
-      options.method != "radiosity" && options.method != "dm" && options.method != "combined")
+      options.method != "radiosity" && options.method != "galerkin" && options.method != "dm" &&
+      options.method != "combined")
     throw UsageError("--method " + options.method +
                      " is not available in this build (available: reference, dm, montecarlo, "
-                     "radiosity, combined)");
+                     "radiosity, galerkin, combined)");
   const Scene scene = loadScene(options.scene);
   checkFrame(options.frame, scene.frames);
   const std::vector<ProbePoint> points = readPointsFile(options.points);
@@ -118,6 +119,17 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
     solver.build(live);
     walkToFrame(live, options.frame,
                 [&](const SceneChange& change) { solver.update(live, change); });
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto sample = solver.sample(points[i].position, points[i].normal);
+      if (!sample) throw lieOnNoReceiver(points[i]);
+      results[i].value = sample->total();
+    }
+  } else if (options.method == "galerkin") {
+    // Total irradiance from the Galerkin core: the linear functions of the leaf holding the
+    // point. Each frame is solved from scratch (it has no update yet).
+    walkToFrame(live, options.frame, [](const SceneChange&) {});
+    GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
+    solver.build(live);
     for (size_t i = 0; i < points.size(); ++i) {
       const auto sample = solver.sample(points[i].position, points[i].normal);
       if (!sample) throw lieOnNoReceiver(points[i]);

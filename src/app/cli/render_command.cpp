@@ -1,5 +1,5 @@
-// `penumbra render SCENE --method raytrace|dm|radiosity|volumes -o OUT.png`: images of a frame,
-// or with --frames A:B (dm) a strip of frames reached by updates.
+// `penumbra render SCENE --method raytrace|dm|radiosity|galerkin|volumes -o OUT.png`: images of a
+// frame, or with --frames A:B (dm) a strip of frames reached by updates.
 
 #include <chrono>
 #include <cstdio>
@@ -98,6 +98,18 @@ void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
   RadiositySolver solver(withThreads(options.radiosity, common));
   solver.build(live);
   const ColoredMesh mesh = radianceMesh(solver.mesh());
+  const auto context = GlContext::createHeadless();
+  MeshRenderer renderer;
+  writeImages(options, common, renderer.render(mesh, camera, camera.width, camera.height), nullptr,
+              "");
+}
+
+// The Galerkin core's solution: every leaf's linear radiosity drawn over its own triangles.
+void renderGalerkin(const RenderOptions& options, const CommonOptions& common,
+                    const DynamicScene& live, const Camera& camera) {
+  GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
+  solver.build(live);
+  const ColoredMesh mesh = radianceMesh(solver.leafMesh());
   const auto context = GlContext::createHeadless();
   MeshRenderer renderer;
   writeImages(options, common, renderer.render(mesh, camera, camera.width, camera.height), nullptr,
@@ -239,10 +251,11 @@ void renderVolumes(const RenderOptions& options, const CommonOptions& common, co
 
 int runRender(const RenderOptions& options, const CommonOptions& common) {
   if (options.method != "raytrace" && options.method != "radiosity" &&
-      options.method != "volumes" && options.method != "dm" && options.method != "combined")
+      options.method != "galerkin" && options.method != "volumes" && options.method != "dm" &&
+      options.method != "combined")
     throw UsageError("--method " + options.method +
                      " is not available in this build (available: raytrace, dm, radiosity, "
-                     "combined, volumes)");
+                     "galerkin, combined, volumes)");
   if (options.edges && options.method != "dm") throw UsageError("--edges needs --method dm");
   // An image written over the scene it was made from would lose the scene.
   for (const std::string& output : {options.output, options.exr}) {
@@ -269,6 +282,8 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     renderDm(options, common, live, camera);
   else if (options.method == "radiosity")
     renderRadiosity(options, common, live, camera);
+  else if (options.method == "galerkin")
+    renderGalerkin(options, common, live, camera);
   else if (options.method == "combined")
     renderCombined(options, common, live, camera);
   else

@@ -79,7 +79,6 @@ std::pair<double, double> insideBox(const Box3& box, const Vec3& a, const Vec3& 
   return {enter, leave};
 }
 
-
 }  // namespace
 
 bool GalerkinRadiosity::canExchange(NodeRef r, NodeRef s) const {

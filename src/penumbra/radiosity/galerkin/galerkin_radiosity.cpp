@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "penumbra/base/check.h"
 #include "penumbra/radiosity/face_contacts.h"
@@ -142,6 +144,50 @@ std::optional<RadiositySample> GalerkinRadiosity::sample(const Vec3& point,
 Rgb GalerkinRadiosity::irradiance(const Vec3& point, const Vec3& normal) const {
   const auto s = sample(point, normal);
   return s ? s->total() : Rgb{};
+}
+
+RadiosityMesh GalerkinRadiosity::leafMesh() const {
+  // Corners shared by leaves of one polygon take the area-weighted mean of the leaves' values
+  // there: the functions are discontinuous across leaves, and drawn as they are every leaf's
+  // edge shows as a seam.
+  RadiosityMesh mesh;
+  std::map<std::tuple<PolygonId, double, double, double>, std::uint32_t> corners;
+  std::vector<double> weights;
+  for (const GElement& e : elements_) {
+    if (!e.isLeaf() || e.cover == GElement::kCovered) continue;
+    std::array<std::uint32_t, 4> index{};
+    for (int i = 0; i < e.shape.vertexCount; ++i) {
+      const Vec3& x = e.shape.vertices[i];
+      const auto [at, inserted] =
+          corners.try_emplace({e.polygon, x.x, x.y, x.z}, std::uint32_t(mesh.positions.size()));
+      if (inserted) {
+        mesh.positions.push_back(x);
+        mesh.normals.push_back(e.shape.normal);
+        mesh.polygons.push_back(e.polygon);
+        mesh.radiosity.emplace_back();
+        mesh.directIrradiance.emplace_back();
+        mesh.indirectIrradiance.emplace_back();
+        weights.push_back(0);
+      }
+      const std::uint32_t v = index[i] = at->second;
+      mesh.radiosity[v] += e.basis.evaluate(e.node.radiosity, x) * e.area;
+      mesh.directIrradiance[v] += e.basis.evaluate(e.node.irradianceDirect, x) * e.area;
+      mesh.indirectIrradiance[v] += e.basis.evaluate(e.node.irradianceIndirect, x) * e.area;
+      weights[v] += e.area;
+    }
+    mesh.indices.insert(mesh.indices.end(), {index[0], index[1], index[2]});
+    if (e.shape.vertexCount == 4)
+      mesh.indices.insert(mesh.indices.end(), {index[0], index[2], index[3]});
+  }
+  const auto nonNegative = [](const Rgb& c) {
+    return Rgb{std::max(c.r, 0.0), std::max(c.g, 0.0), std::max(c.b, 0.0)};
+  };
+  for (size_t v = 0; v < weights.size(); ++v) {
+    mesh.radiosity[v] = nonNegative(mesh.radiosity[v] / weights[v]);
+    mesh.directIrradiance[v] = nonNegative(mesh.directIrradiance[v] / weights[v]);
+    mesh.indirectIrradiance[v] = nonNegative(mesh.indirectIrradiance[v] / weights[v]);
+  }
+  return mesh;
 }
 
 Rgb GalerkinRadiosity::emittedPower() const {

@@ -79,6 +79,9 @@ class GalerkinRadiosity {
   // to 0); nothing when the point lies on no polygon facing `normal`.
   std::optional<RadiositySample> sample(const Vec3& point, const Vec3& normal) const;
   Rgb irradiance(const Vec3& point, const Vec3& normal) const;
+  // The solution as drawn: the leaves' triangles, each corner with the area-weighted mean of the
+  // linear functions of the leaves of its polygon that meet there.
+  RadiosityMesh leafMesh() const;
 
   // Power emitted and absorbed ((1 − ρ) ∫ E over the leaves), W per channel.
   Rgb emittedPower() const;

@@ -14,7 +14,8 @@ namespace {
 InputError budgetExceeded(double tolerance, const char* what, long long limit) {
   std::ostringstream problem;
   problem << "refining to tolerance " << tolerance << " needs more than " << limit << " " << what
-          << "; use a larger tolerance";
+          << " (the solver's budget: --max-" << what
+          << "); use a larger tolerance or raise the budget";
   return InputError("--tolerance", problem.str());
 }
 
@@ -154,8 +155,8 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
     if (oracle(link.receiver, link.source, link.meanTransfer, link.spread) <= threshold_) continue;
     if (!canSplit(link.receiver) && !canSplit(link.source)) continue;
     links_[i].active = false;
-    const Candidates candidates = std::make_shared<const std::vector<PolygonId>>(
-        gridCandidates(link.receiver, link.source));
+    const Candidates candidates =
+        std::make_shared<const std::vector<PolygonId>>(gridCandidates(link.receiver, link.source));
     const bool receiverLarger = size(link.receiver) >= size(link.source);
     const bool splitReceiver = receiverLarger ? canSplit(link.receiver) : !canSplit(link.source);
     if (splitReceiver)
