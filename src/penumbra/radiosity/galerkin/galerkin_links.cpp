@@ -30,16 +30,13 @@ struct EndPoints {
   Box3 box;     // a cluster's
 };
 
-EndPoints elementPoints(const ElementShape& shape, const LinearBasis& basis) {
+EndPoints elementPoints(const GalerkinRadiosity::GElement& e) {
   EndPoints end;
-  const Cubature rule = linkCubature(shape);
-  end.count = rule.count;
-  for (int i = 0; i < rule.count; ++i) {
-    end.points[i] = rule.points[i];
-    end.weights[i] = rule.weights[i];
-    end.basis[i] = basis.at(rule.points[i]);
-  }
-  end.normal = shape.normal;
+  end.count = e.cubature.count;
+  end.points = e.cubature.points;
+  end.weights = e.cubature.weights;
+  end.basis = e.cubatureBasis;
+  end.normal = e.shape.normal;
   return end;
 }
 
@@ -138,12 +135,10 @@ std::vector<PolygonId> GalerkinRadiosity::gridCandidates(NodeRef r, NodeRef s) c
 GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
                                                         const std::vector<PolygonId>& candidates,
                                                         Counters& counters) const {
-  const EndPoints receiver =
-      r.isCluster() ? clusterPoints(clusters_[r.index].structure.bounds)
-                    : elementPoints(elements_[r.index].shape, elements_[r.index].basis);
-  const EndPoints source = s.isCluster()
-                               ? clusterPoints(clusters_[s.index].structure.bounds)
-                               : elementPoints(elements_[s.index].shape, elements_[s.index].basis);
+  const EndPoints receiver = r.isCluster() ? clusterPoints(clusters_[r.index].structure.bounds)
+                                           : elementPoints(elements_[r.index]);
+  const EndPoints source = s.isCluster() ? clusterPoints(clusters_[s.index].structure.bounds)
+                                         : elementPoints(elements_[s.index]);
   const double sourceArea = area(s);
   const bool mayBeHidden = !candidates.empty();
   if (!mayBeHidden) ++counters.unoccludedLinks;

@@ -51,7 +51,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   for (const Element& root : roots) {
     GElement e;
     e.shape = root;
-    e.basis = LinearBasis(e.shape);
+    prepare(e);
     e.polygon = root.polygon;
     e.area = root.area;
     e.reflectance = root.reflectance;
@@ -85,7 +85,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
     stats_.refineSeconds += elapsedSeconds(refineStart);
     if (!refined) break;
     const auto solveStart = std::chrono::steady_clock::now();
-    solve();
+    solve(options_.convergence);
     stats_.solveSeconds += elapsedSeconds(solveStart);
   }
   stats_.pointPairs = counters.pointPairs;
@@ -98,6 +98,12 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   stats_.totalSeconds = elapsedSeconds(start);
 }
 
+void GalerkinRadiosity::prepare(GElement& e) {
+  e.basis = LinearBasis(e.shape);
+  e.cubature = linkCubature(e.shape);
+  for (int i = 0; i < e.cubature.count; ++i) e.cubatureBasis[i] = e.basis.at(e.cubature.points[i]);
+}
+
 bool GalerkinRadiosity::isCovered(PolygonId polygon, const Vec3& x) const {
   for (PolygonId partner : contacts_[polygon])
     for (int root : polygonRoots_[partner])
@@ -107,7 +113,7 @@ bool GalerkinRadiosity::isCovered(PolygonId polygon, const Vec3& x) const {
 
 GalerkinRadiosity::GElement::Cover GalerkinRadiosity::coverOf(const GElement& e) const {
   if (contacts_[e.polygon].empty()) return GElement::kExposed;
-  const Cubature rule = linkCubature(e.shape);
+  const Cubature& rule = e.cubature;
   int covered = isCovered(e.polygon, e.shape.centroid()) ? 1 : 0;
   for (int i = 0; i < rule.count; ++i) covered += isCovered(e.polygon, rule.points[i]) ? 1 : 0;
   return covered == 0                ? GElement::kExposed

@@ -102,6 +102,8 @@ class GalerkinRadiosity {
     ElementShape shape;
     LinearBasis basis;
     BasisTransfer fromParent{};  // the parent's basis over this element (push and pull)
+    Cubature cubature;           // where links sample it (linkCubature), kept: links read it often
+    std::array<std::array<double, 3>, 4> cubatureBasis{};  // the basis at those points
     PolygonId polygon = 0;
     int parent = -1;
     int firstChild = -1;
@@ -160,6 +162,8 @@ class GalerkinRadiosity {
   // Refines the tasks' interactions until the oracle is satisfied (refinement.cpp).
   void refine(std::vector<RefineTask> wave, Counters& counters);
   bool refineActiveLinks(Counters& counters);
+  // Sets the element's basis and cubature from its shape.
+  static void prepare(GElement& e);
   // Splits the element (once) and returns its first child.
   int splitElement(int element);
   bool canSplit(NodeRef n) const;
@@ -173,7 +177,8 @@ class GalerkinRadiosity {
   // Adds a child's exitance on the lobes: its emission, or (`emitted` false) its reflected
   // radiosity.
   void addLobes(AxisLobes& lobes, NodeRef child, bool emitted) const;
-  void solve();
+  // Jacobi iterations until the largest change of B < convergence x the largest reflected B.
+  void solve(double convergence);
   // Pushes what `n` gathered (plus `direct`, `indirect` from element ancestors, in n's basis,
   // and the lobes of cluster ancestors) down to the leaves, sets B there and pulls it back up;
   // returns the largest change of a leaf's B.

@@ -60,7 +60,7 @@ int GalerkinRadiosity::splitElement(int index) {
     child.shape.vertices = vertices;
     child.shape.vertexCount = parent.shape.vertexCount;
     child.shape.normal = parent.shape.normal;
-    child.basis = LinearBasis(child.shape);
+    prepare(child);
     child.fromParent = basisTransfer(parent.basis, child.basis, child.shape);
     child.polygon = parent.polygon;
     child.parent = index;

@@ -64,7 +64,7 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
   for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * shares[f]);
 }
 
-void GalerkinRadiosity::solve() {
+void GalerkinRadiosity::solve(double convergence) {
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     for (GElement& e : elements_) e.node.gatheredDirect = e.node.gatheredIndirect = {};
     for (GCluster& c : clusters_) c.node.gatheredDirect = c.node.gatheredIndirect = {};
@@ -113,7 +113,7 @@ void GalerkinRadiosity::solve() {
     for (const GElement& e : elements_)
       if (e.isLeaf())
         reflected = std::max(reflected, (e.node.radiosity[0] - e.node.emission).maxComponent());
-    if (change <= options_.convergence * std::max(reflected, 1e-300)) break;
+    if (change <= convergence * std::max(reflected, 1e-300)) break;
   }
 }
 
