@@ -158,8 +158,8 @@ void pathTracerRows(const PosedScene& posed, const std::vector<OpenPoint>& point
   }
 }
 
-// The errors of a solution's samples at the points: total, and the direct and indirect parts'
-// each against the total.
+// The errors of a solution's samples at the points: the total's, and the parts of it that its
+// direct and indirect terms make (each against the total, so the three are comparable).
 struct PointErrors {
   std::vector<double> total, direct, indirect, signedIndirect;
   void add(const OpenPoint& p, const std::optional<RadiositySample>& sample) {
@@ -255,35 +255,23 @@ void run(const std::string& path, const Options& o) {
       if (!c) return std::nullopt;
       return RadiositySample{c->direct, c->indirect, {}};
     };
-    // The total's error, and the parts of it that its direct and indirect terms make (each
-    // against the total, so the three are comparable).
-    std::vector<double> errors, directErrors, indirectErrors;
-    std::vector<double> signedIndirect;
     const auto queryStart = std::chrono::steady_clock::now();
     std::vector<std::optional<RadiositySample>> samples;
     for (const OpenPoint& p : points) samples.push_back(sampleAt(p.point));
     const double queryMicroseconds =
         1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - queryStart).count() /
         double(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-      const OpenPoint& p = points[i];
-      const std::optional<RadiositySample>& sample = samples[i];
-      const double direct = sample ? sample->direct.average() : 0;
-      const double indirect = sample ? sample->indirect.average() : 0;
-      errors.push_back(std::abs(direct + indirect - p.reference) / p.reference);
-      directErrors.push_back(std::abs(direct - p.direct) / p.reference);
-      indirectErrors.push_back(std::abs(indirect - (p.reference - p.direct)) / p.reference);
-      signedIndirect.push_back((indirect - (p.reference - p.direct)) / p.reference);
-    }
+    PointErrors errors;
+    for (size_t i = 0; i < points.size(); ++i) errors.add(points[i], samples[i]);
     const RadiosityStats& s = solver.stats();
     std::printf(
         "%10.0e %8d %9.3f %9lld %10lld %7.2f%% %7.2f%% %8.2f%% %8.2f%% %9.3f %9.3f %9.3f %9.1f\n",
-        tolerance, o.threads, seconds, s.elements, s.activeLinks, 100 * percentile(errors, 0.5),
-        100 * percentile(errors, 0.95), 100 * percentile(directErrors, 0.5),
-        100 * percentile(indirectErrors, 0.5), s.refineSeconds, s.solveSeconds,
-        s.finalGatherSeconds, queryMicroseconds);
+        tolerance, o.threads, seconds, s.elements, s.activeLinks,
+        100 * percentile(errors.total, 0.5), 100 * percentile(errors.total, 0.95),
+        100 * percentile(errors.direct, 0.5), 100 * percentile(errors.indirect, 0.5),
+        s.refineSeconds, s.solveSeconds, s.finalGatherSeconds, queryMicroseconds);
     std::printf("# median signed indirect error %.2f%% of the total\n",
-                100 * percentile(signedIndirect, 0.5));
+                100 * percentile(errors.signedIndirect, 0.5));
     std::fflush(stdout);
   }
 }

@@ -16,6 +16,7 @@
 #include "penumbra/spatial/ray_caster.h"
 #include "penumbra/spatial/uniform_grid.h"
 #include "support/boxes.h"
+#include "support/closed_form_factors.h"
 #include "support/scene_builder.h"
 
 namespace penumbra {
@@ -34,28 +35,6 @@ double meanIrradiance(const RadiositySolver& solver, PolygonId first, PolygonId 
       area += e.area;
     }
   return sum / area;
-}
-
-// Howell's catalogue (C-11): parallel, directly opposed rectangles a x b at distance c.
-double parallelRectangles(double a, double b, double c) {
-  const double x = a / c, y = b / c;
-  const double x1 = std::sqrt(1 + x * x), y1 = std::sqrt(1 + y * y);
-  return 2 / (std::numbers::pi * x * y) *
-         (std::log(std::sqrt((1 + x * x) * (1 + y * y) / (1 + x * x + y * y))) +
-          x * y1 * std::atan(x / y1) + y * x1 * std::atan(y / x1) - x * std::atan(x) -
-          y * std::atan(y));
-}
-// Howell (C-14): perpendicular rectangles with a common edge of length l, widths w (receiver)
-// and h (source); H = h / l, W = w / l. Form factor from the receiver to the source.
-double perpendicularRectangles(double l, double w, double h) {
-  const double H = h / l, W = w / l;
-  const double a = (1 + W * W) * (1 + H * H) / (1 + W * W + H * H);
-  const double b = W * W * (1 + W * W + H * H) / ((1 + W * W) * (W * W + H * H));
-  const double c = H * H * (1 + H * H + W * W) / ((1 + H * H) * (H * H + W * W));
-  return 1 / (std::numbers::pi * W) *
-         (W * std::atan(1 / W) + H * std::atan(1 / H) -
-          std::sqrt(H * H + W * W) * std::atan(1 / std::sqrt(H * H + W * W)) +
-          0.25 * std::log(a * std::pow(b, W * W) * std::pow(c, H * H)));
 }
 
 RadiosityOptions withTolerance(double tolerance) {
@@ -100,7 +79,7 @@ TEST(RadiositySolver, ReceiverCutByTheSourcePlaneAtAVertexStaysFinite) {
 TEST(RadiositySolver, ParallelSquaresMatchClosedForm) {
   const Polygon3 floor{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};    // faces +z
   const Polygon3 ceiling{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};  // faces -z
-  const double expected = parallelRectangles(1, 1, 1);
+  const double expected = test::parallelRectangles(1, 1, 1);
   EXPECT_NEAR(expected, 0.19982, 1e-5);
   // Measured (session 9): 1.5e-4 relative (the receiver-area mean of exact point form factors
   // by the links' 16-point quadrature and the leaves' cells).
@@ -110,7 +89,7 @@ TEST(RadiositySolver, ParallelSquaresMatchClosedForm) {
 TEST(RadiositySolver, PerpendicularSquaresMatchClosedForm) {
   const Polygon3 floor{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};  // faces +z
   const Polygon3 wall{{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};   // x = 0, faces +x
-  const double expected = perpendicularRectangles(1, 1, 1);
+  const double expected = test::perpendicularRectangles(1, 1, 1);
   EXPECT_NEAR(expected, 0.20004, 1e-5);
   // The shared edge makes the point form factor logarithmic there: refinement resolves it.
   // Measured (session 9): -6.7e-6 relative.

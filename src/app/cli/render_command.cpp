@@ -92,28 +92,30 @@ void renderRaytrace(const RenderOptions& options, const CommonOptions& common,
   writeImages(options, common, image.radiance, &image.irradiance, "");
 }
 
-// The radiosity solution drawn as its per-vertex mesh: radiance L = B / π (Lambertian).
-void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
-                     const DynamicScene& live, const Camera& camera) {
-  RadiositySolver solver(withThreads(options.radiosity, common));
-  solver.build(live);
-  const ColoredMesh mesh = radianceMesh(solver.mesh());
+// A radiosity solution's mesh drawn with its radiance L = B / π (Lambertian) at the corners.
+void drawRadiosityMesh(const RenderOptions& options, const CommonOptions& common,
+                       const RadiosityMesh& solution, const Camera& camera) {
+  const ColoredMesh mesh = radianceMesh(solution);
   const auto context = GlContext::createHeadless();
   MeshRenderer renderer;
   writeImages(options, common, renderer.render(mesh, camera, camera.width, camera.height), nullptr,
               "");
 }
 
-// The Galerkin core's solution: every leaf's linear radiosity drawn over its own triangles.
+// The radiosity solution drawn as its per-vertex mesh.
+void renderRadiosity(const RenderOptions& options, const CommonOptions& common,
+                     const DynamicScene& live, const Camera& camera) {
+  RadiositySolver solver(withThreads(options.radiosity, common));
+  solver.build(live);
+  drawRadiosityMesh(options, common, solver.mesh(), camera);
+}
+
+// The Galerkin core's solution: its leaves' linear functions.
 void renderGalerkin(const RenderOptions& options, const CommonOptions& common,
                     const DynamicScene& live, const Camera& camera) {
   GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
   solver.build(live);
-  const ColoredMesh mesh = radianceMesh(solver.leafMesh());
-  const auto context = GlContext::createHeadless();
-  MeshRenderer renderer;
-  writeImages(options, common, renderer.render(mesh, camera, camera.width, camera.height), nullptr,
-              "");
+  drawRadiosityMesh(options, common, solver.leafMesh(), camera);
 }
 
 // The exact soft shadows: the discontinuity mesh's faces triangulated, each corner's irradiance
