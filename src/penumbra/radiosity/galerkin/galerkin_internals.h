@@ -16,9 +16,10 @@ struct GalerkinRadiosity::Counters {
 // A link's estimate: its coefficients and the oracle's figures.
 struct GalerkinRadiosity::Estimate {
   std::array<double, 9> k{};
-  double meanTransfer = 0;  // the mean point-pair transfer
-  double spread = 0;        // max − min of the point-pair transfers
-  Vec3 direction;           // unit, from the receiver's centre to the source's
+  double meanTransfer = 0;    // the mean point-pair transfer
+  double spread = 0;          // max − min of the point-pair transfers
+  double hiddenTransfer = 0;  // what the pairs found hidden would carry (weighted as the mean)
+  Vec3 direction;             // unit, from the receiver's centre to the source's
 };
 
 }  // namespace penumbra

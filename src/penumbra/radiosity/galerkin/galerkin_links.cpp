@@ -191,6 +191,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   candidateBoxes.reserve(candidates.size());
   for (PolygonId id : candidates)
     candidateBoxes.push_back(scene_.polygons[id].bounds.expanded(rays_->epsilon()));
+  double hiddenTransfer = 0;
   Estimate e;
   double lowest = std::numeric_limits<double>::infinity(), highest = 0;
   for (int i = 0; i < receiver.count; ++i) {
@@ -214,7 +215,10 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
                                            [&](const Box3& box) { return box.meetsSegment(a, b); });
           if (mayMeet) {
             ++counters.visibilityRays;
-            if (rays_->isOccluded(a, b)) transfer = 0;
+            if (rays_->isOccluded(a, b)) {
+              hiddenTransfer += receiver.weights[i] * source.weights[j] * transfer;
+              transfer = 0;
+            }
           }
         }
       }
@@ -228,6 +232,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   }
   e.meanTransfer = e.k[0];
   e.spread = highest - lowest;
+  e.hiddenTransfer = hiddenTransfer;
   // A cluster end's coefficient in its own units: per unit of the exitance a source cluster's
   // lobes send (B A, so without its area and cosine), as the flux density arriving at a receiver
   // cluster (its lobes take the cosines of its surfaces).

@@ -1,5 +1,6 @@
 // Galerkin refinement: the power oracle, splitting the larger end of a link, element subdivision.
 
+#include <algorithm>
 #include <memory>
 #include <sstream>
 
@@ -22,11 +23,13 @@ InputError budgetExceeded(double tolerance, const char* what, long long limit) {
 }  // namespace
 
 // The power a link may misplace: over the receiver's area, the source's largest radiosity times
-// how much the point-pair transfers differ (a linear function cannot follow more), plus the whole
-// transfer where a cluster end is taken as isotropic (its surfaces face every way, and all get
-// or send the same).
-double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, double spread) const {
-  double variation = spread;
+// how much the point-pair transfers differ (a linear function cannot follow more); plus, where
+// some pairs are hidden and some not, the smaller of the hidden and the visible transfer
+// (weighted: GalerkinOptions::hiddenWeight); plus the whole transfer at a cluster end (its
+// surfaces are taken as a whole) and at an element partly covered by a polygon in contact.
+double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
+                                 double hiddenTransfer) const {
+  double variation = spread + options_.hiddenWeight * std::min(hiddenTransfer, meanTransfer);
   if (r.isCluster() || s.isCluster()) variation += meanTransfer;
   // A partly covered end: the covered part's share goes to (or comes from) the exposed part.
   const auto partlyCovered = [&](NodeRef n) {
@@ -118,7 +121,7 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
         continue;
       }
       const Estimate& e = out.estimate;
-      if (oracle(r, s, e.meanTransfer, e.spread) > threshold_) {
+      if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_) {
         const bool receiverLarger = size(r) >= size(s);
         const bool splitReceiver = receiverLarger ? canSplit(r) : !canSplit(s) && canSplit(r);
         const bool splitSource = !splitReceiver && canSplit(s);
@@ -140,6 +143,7 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
       link.direction = e.direction;
       link.meanTransfer = float(e.meanTransfer);
       link.spread = float(e.spread);
+      link.hiddenTransfer = float(e.hiddenTransfer);
       links_.push_back(link);
     }
     wave = std::move(next);
@@ -152,7 +156,9 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
   for (size_t i = 0; i < count; ++i) {
     const GLink link = links_[i];
     if (!link.active) continue;
-    if (oracle(link.receiver, link.source, link.meanTransfer, link.spread) <= threshold_) continue;
+    if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
+        threshold_)
+      continue;
     if (!canSplit(link.receiver) && !canSplit(link.source)) continue;
     links_[i].active = false;
     const Candidates candidates =
