@@ -7,11 +7,13 @@
 //
 // Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
 //                              [--no-final-gather] [--combined] [--path-tracer]
-//                              [--visibility-rays N] [--galerkin [--repeat N]]
+//                              [--visibility-rays N]
+//                              [--galerkin [--repeat N] [--hidden-weight W]]
 //                              [--gather-rays N]
 //                              [scene.json ...]
 // --galerkin: the Galerkin core (radiosity/galerkin/) instead of the hierarchical solver with its
-// final gather; --repeat N solves each tolerance N times and reports the fastest.
+// final gather; --repeat N solves each tolerance N times and reports the fastest; --hidden-weight
+// sets how many times a link's partly hidden transfer counts in its oracle.
 // --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
 // with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the
@@ -58,11 +60,12 @@ struct Options {
   int paths = 65536;
   int threads = 1;
   bool finalGather = true;
-  bool combined = false;    // CombinedSolution: exact direct (DM) + radiosity's indirect
-  bool pathTracer = false;  // the path tracer's own error and cost at fewer paths instead
-  bool galerkin = false;    // the Galerkin core (linear elements, no final gather) instead
-  int repeat = 1;           // Galerkin: solves per tolerance, the fastest one's time reported
-  int visibilityRays = 0;   // 0: the solver's default
+  bool combined = false;     // CombinedSolution: exact direct (DM) + radiosity's indirect
+  bool pathTracer = false;   // the path tracer's own error and cost at fewer paths instead
+  bool galerkin = false;     // the Galerkin core (linear elements, no final gather) instead
+  int repeat = 1;            // Galerkin: solves per tolerance, the fastest one's time reported
+  double hiddenWeight = -1;  // Galerkin: GalerkinOptions::hiddenWeight (negative: its default)
+  int visibilityRays = 0;    // 0: the solver's default
   int gatherRays = 0;
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
   std::vector<std::string> scenes;
@@ -177,6 +180,7 @@ void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points,
   GalerkinOptions options;
   options.tolerance = tolerance;
   options.threads = o.threads;
+  if (o.hiddenWeight >= 0) options.hiddenWeight = o.hiddenWeight;
   GalerkinRadiosity solver(options);
   // Solves of a few milliseconds vary with the machine's load: the fastest of --repeat.
   double seconds = std::numeric_limits<double>::infinity();
@@ -315,6 +319,8 @@ int main(int argc, char** argv) {
       o.galerkin = true;
     else if (arg == "--repeat")
       o.repeat = std::max(1, std::stoi(next()));
+    else if (arg == "--hidden-weight")
+      o.hiddenWeight = std::stod(next());
     else if (arg == "--visibility-rays")
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")
