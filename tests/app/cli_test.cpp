@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <sys/wait.h>
 #include <array>
 #include <cctype>
@@ -617,6 +619,35 @@ TEST(Cli, RadiosityReportAccountsMemoryPerStructure) {
        {"\"frames\"", "\"seconds\"", "\"peak_memory_bytes\"", "\"links\"", "\"passive_links\"",
         "\"shafts\"", "\"polygon_shafts\"", "\"memory_bytes\"", "\"elements\"", "\"active_links\""})
     EXPECT_NE(text.find(key), std::string::npos) << key;
+}
+
+// The Galerkin core over frames: one entry per frame with its links, elements, stages and memory,
+// the same solution whether reached by stepping or built at the frame.
+TEST(Cli, RadiosityGalerkinReportsEveryFrame) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  const std::string walked = dir.path("walked.json"), built = dir.path("built.json");
+  const RunResult r = runPenumbra(
+      "radiosity " + scene + " --frames 0:2 --solver galerkin --tolerance 1e-2 --report " + walked);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const RunResult alone = runPenumbra(
+      "radiosity " + scene + " --frames 2:2 --solver galerkin --tolerance 1e-2 --report " + built);
+  ASSERT_EQ(alone.exitCode, 0) << alone.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(walked));
+  const nlohmann::json single = nlohmann::json::parse(std::ifstream(built));
+  EXPECT_EQ(report["method"], "galerkin");
+  ASSERT_EQ(report["frames"].size(), 3u);
+  for (const nlohmann::json& frame : report["frames"]) {
+    EXPECT_GT(frame["links"].get<long long>(), 100);
+    EXPECT_GT(frame["seconds"].get<double>(), 0);
+    EXPECT_GT(frame["memory_bytes"]["total"].get<long long>(), 0);
+  }
+  EXPECT_EQ(report["frames"][2]["links"], single["frames"][0]["links"]);
+  EXPECT_EQ(report["frames"][2]["point_pairs"], single["frames"][0]["point_pairs"]);
+  const RunResult unknown = runPenumbra("radiosity " + scene + " --solver bogus");
+  EXPECT_EQ(unknown.exitCode, 1) << unknown.output;
+  EXPECT_NE(unknown.output.find("--solver"), std::string::npos) << unknown.output;
 }
 
 // Exit code 2 (bad input) from every verb that reads a scene, with a message naming the file:

@@ -87,6 +87,7 @@ struct RadiosityCommandOptions {
   std::string scene;
   std::string frames;  // A:B, empty: all frames
   std::string update = "full";
+  std::string solver = "hierarchical";  // or galerkin
   RadiosityOptions radiosity;
   std::string report;
 };

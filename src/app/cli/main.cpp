@@ -124,6 +124,8 @@ int main(int argc, char** argv) {
   radiosityCommand->add_option("scene", radiosity.scene, "Scene file")->required();
   radiosityCommand->add_option("--frames", radiosity.frames, "Frames A:B (default: all)");
   radiosityCommand->add_option("--update", radiosity.update, "full (linespace: later)");
+  radiosityCommand->add_option("--solver", radiosity.solver,
+                               "hierarchical (with a final gather) | galerkin (linear elements)");
   radiosityCommand->add_option("--tolerance", radiosity.radiosity.tolerance, "Refinement tolerance")
       ->capture_default_str()
       ->check(kPositiveFinite);

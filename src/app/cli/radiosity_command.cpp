@@ -1,5 +1,6 @@
-// `penumbra radiosity SCENE [--frames A:B] --update full [--tolerance T] --report R.json`:
-// the hierarchical radiosity solution over a range of frames, with per-frame statistics.
+// `penumbra radiosity SCENE [--frames A:B] --update full [--solver hierarchical|galerkin]
+// [--tolerance T] --report R.json`: the radiosity solution over a range of frames, with per-frame
+// statistics.
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -7,6 +8,7 @@
 #include "commands.h"
 #include "frame_range.h"
 #include "frame_walk.h"
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/dynamic_scene.h"
@@ -46,6 +48,57 @@ nlohmann::json statsJson(const RadiosityStats& s) {
             {"total", s.totalBytes()}}}};
 }
 
+nlohmann::json statsJson(const GalerkinStats& s) {
+  return {{"links", s.activeLinks + s.passiveLinks},
+          {"active_links", s.activeLinks},
+          {"passive_links", s.passiveLinks},
+          {"elements", s.elements},
+          {"leaves", s.leaves},
+          {"clusters", s.clusters},
+          {"point_pairs", s.pointPairs},
+          {"visibility_rays", s.visibilityRays},
+          {"unoccluded_links", s.unoccludedLinks},
+          {"iterations", s.iterations},
+          {"refine_seconds", s.refineSeconds},
+          {"solve_seconds", s.solveSeconds},
+          {"memory_bytes",
+           {{"clusters", s.clusterBytes},
+            {"elements", s.elementBytes},
+            {"links", s.linkBytes},
+            {"total", s.totalBytes()}}}};
+}
+
+// The Galerkin core over the frames (it recomputes each frame inside update()).
+int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& common,
+                const Scene& scene, const FrameRange& range) {
+  DynamicScene live(scene, range.first);
+  GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
+  nlohmann::json frames = nlohmann::json::array();
+  Progress progress("radiosity (galerkin)", range.last - range.first + 1, common.quiet);
+  for (int frame = range.first; frame <= range.last; ++frame) {
+    const int moved = buildOrStep(live, solver, frame, frame == range.first);
+    const GalerkinStats& s = solver.stats();
+    nlohmann::json entry = statsJson(s);
+    entry["frame"] = frame;
+    entry["seconds"] = s.totalSeconds;
+    entry["moved_objects"] = moved;
+    frames.push_back(entry);
+    if (!common.quiet)
+      std::fprintf(stderr, "frame %d: %.3f s, %lld links, %lld elements (%lld leaves), %.1f MiB\n",
+                   frame, s.totalSeconds, s.activeLinks, s.elements, s.leaves,
+                   double(s.totalBytes()) / (1 << 20));
+    progress.advance();
+  }
+  if (!options.report.empty()) {
+    nlohmann::json report = statsJson(solver.stats());
+    report["method"] = "galerkin";
+    report["update"] = options.update;
+    report["tolerance"] = options.radiosity.tolerance;
+    writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
+  }
+  return kOk;
+}
+
 }  // namespace
 
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common) {
@@ -53,8 +106,12 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
     throw UsageError("--update " + options.update +
                      " is not available in this build (available: full; the line-space update "
                      "is a later issue)");
+  if (options.solver != "hierarchical" && options.solver != "galerkin")
+    throw UsageError("--solver " + options.solver +
+                     " is not available (available: hierarchical, galerkin)");
   const Scene scene = loadScene(options.scene);
   const FrameRange range = parseFrameRange(options.frames, scene.frames);
+  if (options.solver == "galerkin") return runGalerkin(options, common, scene, range);
   const int first = range.first, last = range.last;
   // One live scene and one solver held across frames, told each change (the solver recomputes
   // inside update() until the line-space update lands).

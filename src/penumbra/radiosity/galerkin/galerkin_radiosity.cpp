@@ -95,6 +95,11 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   stats_.clusters = (long long)clusters_.size();
   for (const GElement& e : elements_) stats_.leaves += e.isLeaf() ? 1 : 0;
   for (const GLink& l : links_) (l.active ? stats_.activeLinks : stats_.passiveLinks) += 1;
+  stats_.elementBytes = elements_.capacity() * sizeof(GElement);
+  stats_.clusterBytes = clusters_.capacity() * sizeof(GCluster);
+  for (const GCluster& c : clusters_)
+    stats_.clusterBytes += c.structure.children.capacity() * sizeof(NodeRef);
+  stats_.linkBytes = links_.capacity() * sizeof(GLink);
   stats_.totalSeconds = elapsedSeconds(start);
 }
 
@@ -119,6 +124,10 @@ GalerkinRadiosity::GElement::Cover GalerkinRadiosity::coverOf(const GElement& e)
   return covered == 0                ? GElement::kExposed
          : covered == rule.count + 1 ? GElement::kCovered
                                      : GElement::kPartlyCovered;
+}
+
+void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange&) {
+  build(scene);
 }
 
 std::optional<int> GalerkinRadiosity::leafContaining(const Vec3& point, const Vec3& normal) const {

@@ -20,6 +20,7 @@
 //
 // Units: B, M in W/m²; irradiance in W/m²; B = M + ρ E (DESIGN.md §5).
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -35,6 +36,7 @@ namespace penumbra {
 
 class DynamicScene;
 class RayCaster;
+struct SceneChange;
 class UniformGrid;
 
 struct GalerkinOptions {
@@ -68,6 +70,10 @@ struct GalerkinStats {
   long long visibilityRays = 0;   // rays cast
   long long unoccludedLinks = 0;  // links whose shaft held no polygon (no rays)
   int iterations = 0;             // Jacobi iterations, all passes
+  std::size_t elementBytes = 0;   // memory in use (vector capacities)
+  std::size_t clusterBytes = 0;
+  std::size_t linkBytes = 0;
+  std::size_t totalBytes() const { return elementBytes + clusterBytes + linkBytes; }
   double refineSeconds = 0;
   double solveSeconds = 0;
   double totalSeconds = 0;
@@ -80,6 +86,9 @@ class GalerkinRadiosity {
   // Builds the hierarchy at the scene's current pose and solves (the scene's grid and ray
   // caster are used during the call only).
   void build(const DynamicScene& scene);
+  // The solution at the scene's new pose after `change` was applied to it: for now a full
+  // recomputation (the line-space update is issue 17's).
+  void update(const DynamicScene& scene, const SceneChange& change);
 
   // Direct and indirect irradiance and radiosity at a point on the front of a receiver, from the
   // linear functions of the leaf holding it (negative values of a steep linear function clamped
