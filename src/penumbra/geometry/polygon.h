@@ -17,6 +17,9 @@ using Polygon2 = std::vector<Vec2>;
 // Newell's normal: twice the vector area; robust for non-convex and slightly non-planar loops.
 Vec3 newellNormal(const Polygon3& polygon);
 double area(const Polygon3& polygon);
+inline double triangleArea(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return 0.5 * length(cross(b - a, c - a));
+}
 // Area centroid (not the vertex average). Precondition: non-zero area.
 Vec3 centroid(const Polygon3& polygon);
 // Plane through the centroid with the unit Newell normal. Precondition: non-zero area.

@@ -20,6 +20,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "penumbra/geometry/polygon.h"
 #include "penumbra/geometry/triangulation.h"
 
 namespace penumbra {
@@ -101,7 +102,7 @@ MonteCarloEstimator::MonteCarloEstimator(const PosedScene& scene, const RayCaste
     light.plane = polygon.plane;
     for (const auto& t : triangulate(polygon.vertices)) {
       Triangle triangle{polygon.vertices[t[0]], polygon.vertices[t[1]], polygon.vertices[t[2]]};
-      triangle.area = 0.5 * length(cross(triangle.b - triangle.a, triangle.c - triangle.a));
+      triangle.area = triangleArea(triangle.a, triangle.b, triangle.c);
       light.area += triangle.area;
       light.triangles.push_back(triangle);
     }

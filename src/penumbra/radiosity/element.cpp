@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "penumbra/geometry/polygon.h"
+
 namespace penumbra {
 
 namespace {
@@ -10,9 +12,6 @@ Vec3 uniformInTriangle(const Vec3& a, const Vec3& b, const Vec3& c, double u, do
   // Folding the unit square onto the triangle keeps the density uniform.
   if (u + v > 1) u = 1 - u, v = 1 - v;
   return a + (b - a) * u + (c - a) * v;
-}
-double triangleArea(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return 0.5 * length(cross(b - a, c - a));
 }
 }  // namespace
 

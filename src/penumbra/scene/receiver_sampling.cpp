@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "penumbra/geometry/polygon.h"
 #include "penumbra/geometry/triangulation.h"
 
 namespace penumbra {
@@ -23,7 +24,7 @@ std::vector<ReceiverPoint> sampleReceiverPoints(const PosedScene& scene, int cou
     for (const auto& t : triangulate(polygon.vertices)) {
       const std::array<Vec3, 3> c{polygon.vertices[t[0]], polygon.vertices[t[1]],
                                   polygon.vertices[t[2]]};
-      total += 0.5 * length(cross(c[1] - c[0], c[2] - c[0]));
+      total += triangleArea(c[0], c[1], c[2]);
       cumulativeArea.push_back(total);
       triangles.push_back({c, polygon.id});
     }

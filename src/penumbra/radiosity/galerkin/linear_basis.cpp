@@ -3,15 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "penumbra/geometry/polygon.h"
+
 namespace penumbra {
-
-namespace {
-
-double triangleArea(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return 0.5 * length(cross(b - a, c - a));
-}
-
-}  // namespace
 
 ExactCubature quadraticCubature(const ElementShape& shape) {
   ExactCubature rule;
