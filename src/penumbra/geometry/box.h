@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 #include "penumbra/geometry/vec3.h"
 
@@ -36,24 +37,29 @@ struct Box3 {
     return min.x <= b.max.x && b.min.x <= max.x && min.y <= b.max.y && b.min.y <= max.y &&
            min.z <= b.max.z && b.min.z <= max.z;
   }
-  // Does the closed segment ab meet the closed box (slab method; callers who need certainty
-  // under rounding test an expanded box)?
-  bool meetsSegment(const Vec3& a, const Vec3& b) const {
-    if (isEmpty()) return false;
+  // The part [enter, leave] of the segment a + t (b − a), t in [0, 1], inside the closed box
+  // (slab method); enter > leave when the segment misses it.
+  std::pair<double, double> segmentInterval(const Vec3& a, const Vec3& b) const {
     double enter = 0, leave = 1;
     for (int k = 0; k < 3; ++k) {
       const double origin = a[k], d = b[k] - a[k];
       if (d == 0) {
-        if (origin < min[k] || origin > max[k]) return false;
+        if (origin < min[k] || origin > max[k]) return {1, 0};
         continue;
       }
       double t0 = (min[k] - origin) / d, t1 = (max[k] - origin) / d;
       if (t0 > t1) std::swap(t0, t1);
       enter = std::max(enter, t0);
       leave = std::min(leave, t1);
-      if (enter > leave) return false;
     }
-    return true;
+    return {enter, leave};
+  }
+  // Does the closed segment ab meet the closed box (callers who need certainty under rounding
+  // test an expanded box)?
+  bool meetsSegment(const Vec3& a, const Vec3& b) const {
+    if (isEmpty()) return false;
+    const auto [enter, leave] = segmentInterval(a, b);
+    return enter <= leave;
   }
   Box3 expanded(double margin) const {
     Box3 r = *this;

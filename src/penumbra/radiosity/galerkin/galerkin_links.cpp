@@ -58,24 +58,6 @@ EndPoints clusterPoints(const Box3& box) {
   return end;
 }
 
-// The part [enter, leave] of the segment a + t (b − a), t in [0, 1], inside the box; enter >
-// leave when it misses.
-std::pair<double, double> insideBox(const Box3& box, const Vec3& a, const Vec3& b) {
-  double enter = 0, leave = 1;
-  for (int k = 0; k < 3; ++k) {
-    const double origin = a[k], d = b[k] - a[k];
-    if (d == 0) {
-      if (origin < box.min[k] || origin > box.max[k]) return {1, 0};
-      continue;
-    }
-    double t0 = (box.min[k] - origin) / d, t1 = (box.max[k] - origin) / d;
-    if (t0 > t1) std::swap(t0, t1);
-    enter = std::max(enter, t0);
-    leave = std::min(leave, t1);
-  }
-  return {enter, leave};
-}
-
 }  // namespace
 
 bool GalerkinRadiosity::canExchange(NodeRef r, NodeRef s) const {
@@ -205,8 +187,8 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
         // face): the part of the segment inside a cluster end's box is not tested.
         const Vec3 d = y - x;
         double from = 0, to = 1;
-        if (receiver.isCluster) from = insideBox(receiver.box, x, y).second;
-        if (source.isCluster) to = insideBox(source.box, x, y).first;
+        if (receiver.isCluster) from = receiver.box.segmentInterval(x, y).second;
+        if (source.isCluster) to = source.box.segmentInterval(x, y).first;
         if (from < to) {
           // The ray caster is asked only when the segment meets a candidate's box: most
           // segments of a link whose shaft holds a polygon pass beside it.
