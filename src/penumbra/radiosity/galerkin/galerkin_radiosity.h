@@ -179,6 +179,12 @@ class GalerkinRadiosity {
   };
   // Refines the tasks' interactions until the oracle is satisfied (refinement.cpp).
   void refine(std::vector<RefineTask> wave, Counters& counters);
+  // The end of a link to split: the larger one (by its box's diagonal) if it can be split, else
+  // the other, else none.
+  std::optional<NodeRef> endToSplit(NodeRef r, NodeRef s) const;
+  // Queues the interactions that replace r with s once `end` (r or s) is split.
+  void queueChildren(NodeRef r, NodeRef s, NodeRef end, const Candidates& candidates,
+                     std::vector<RefineTask>& wave);
   bool refineActiveLinks(Counters& counters);
   // Sets the element's basis and cubature from its shape.
   static void prepare(GElement& e);

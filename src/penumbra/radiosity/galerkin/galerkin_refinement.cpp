@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "penumbra/base/input_error.h"
@@ -41,6 +42,19 @@ double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, doub
 
 bool GalerkinRadiosity::canSplit(NodeRef n) const {
   return n.isCluster() || elements_[n.index].area > minArea_;
+}
+
+std::optional<NodeRef> GalerkinRadiosity::endToSplit(NodeRef r, NodeRef s) const {
+  const NodeRef larger = size(r) >= size(s) ? r : s, smaller = larger == r ? s : r;
+  if (canSplit(larger)) return larger;
+  if (canSplit(smaller)) return smaller;
+  return std::nullopt;
+}
+
+void GalerkinRadiosity::queueChildren(NodeRef r, NodeRef s, NodeRef end,
+                                      const Candidates& candidates, std::vector<RefineTask>& wave) {
+  for (NodeRef child : children(end))
+    wave.push_back(end == r ? RefineTask{child, s, candidates} : RefineTask{r, child, candidates});
 }
 
 std::vector<NodeRef> GalerkinRadiosity::children(NodeRef n) {
@@ -121,19 +135,11 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
         continue;
       }
       const Estimate& e = out.estimate;
-      if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_) {
-        const bool receiverLarger = size(r) >= size(s);
-        const bool splitReceiver = receiverLarger ? canSplit(r) : !canSplit(s) && canSplit(r);
-        const bool splitSource = !splitReceiver && canSplit(s);
-        if (splitReceiver) {
-          for (NodeRef child : children(r)) next.push_back({child, s, out.own});
+      if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
+        if (const std::optional<NodeRef> end = endToSplit(r, s)) {
+          queueChildren(r, s, *end, out.own, next);
           continue;
         }
-        if (splitSource) {
-          for (NodeRef child : children(s)) next.push_back({r, child, out.own});
-          continue;
-        }
-      }
       if ((long long)links_.size() >= options_.maxLinks)
         throw budgetExceeded(options_.tolerance, "links", options_.maxLinks);
       GLink link;
@@ -159,18 +165,13 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
     if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
         threshold_)
       continue;
-    if (!canSplit(link.receiver) && !canSplit(link.source)) continue;
+    const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
+    if (!end) continue;
     links_[i].active = false;
-    const Candidates candidates =
-        std::make_shared<const std::vector<PolygonId>>(gridCandidates(link.receiver, link.source));
-    const bool receiverLarger = size(link.receiver) >= size(link.source);
-    const bool splitReceiver = receiverLarger ? canSplit(link.receiver) : !canSplit(link.source);
-    if (splitReceiver)
-      for (NodeRef child : children(link.receiver))
-        wave.push_back({child, link.source, candidates});
-    else
-      for (NodeRef child : children(link.source))
-        wave.push_back({link.receiver, child, candidates});
+    queueChildren(
+        link.receiver, link.source, *end,
+        std::make_shared<const std::vector<PolygonId>>(gridCandidates(link.receiver, link.source)),
+        wave);
   }
   if (wave.empty()) return false;
   refine(std::move(wave), counters);
