@@ -24,6 +24,11 @@ double elapsedSeconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
+// A steep linear function dips below zero near a leaf's corner; light does not.
+Rgb nonNegative(const Rgb& c) {
+  return {std::max(c.r, 0.0), std::max(c.g, 0.0), std::max(c.b, 0.0)};
+}
+
 }  // namespace
 
 GalerkinRadiosity::GalerkinRadiosity(const GalerkinOptions& options) : options_(options) {}
@@ -148,9 +153,6 @@ std::optional<RadiositySample> GalerkinRadiosity::sample(const Vec3& point,
   const std::optional<int> leaf = leafContaining(point, normal);
   if (!leaf) return std::nullopt;
   const GElement& e = elements_[*leaf];
-  const auto nonNegative = [](const Rgb& c) {
-    return Rgb{std::max(c.r, 0.0), std::max(c.g, 0.0), std::max(c.b, 0.0)};
-  };
   return RadiositySample{nonNegative(e.basis.evaluate(e.node.irradianceDirect, point)),
                          nonNegative(e.basis.evaluate(e.node.irradianceIndirect, point)),
                          nonNegative(e.basis.evaluate(e.node.radiosity, point))};
@@ -194,9 +196,6 @@ RadiosityMesh GalerkinRadiosity::leafMesh() const {
     if (e.shape.vertexCount == 4)
       mesh.indices.insert(mesh.indices.end(), {index[0], index[2], index[3]});
   }
-  const auto nonNegative = [](const Rgb& c) {
-    return Rgb{std::max(c.r, 0.0), std::max(c.g, 0.0), std::max(c.b, 0.0)};
-  };
   for (size_t v = 0; v < weights.size(); ++v) {
     mesh.radiosity[v] = nonNegative(mesh.radiosity[v] / weights[v]);
     mesh.directIrradiance[v] = nonNegative(mesh.directIrradiance[v] / weights[v]);

@@ -88,9 +88,7 @@ int GalerkinRadiosity::splitElement(int index) {
     child.node.maxRadiosity = parent.node.maxRadiosity;
     // The parent's radiosity restricted to the child, until the next solve: the oracle of a
     // later pass reads it.
-    for (int alpha = 0; alpha < 3; ++alpha)
-      for (int beta = 0; beta < 3; ++beta)
-        child.node.radiosity[alpha] += parent.node.radiosity[beta] * child.fromParent[beta][alpha];
+    child.node.radiosity = restrictedToChild(parent.node.radiosity, child.fromParent);
     child.cover = parent.cover == GElement::kPartlyCovered ? coverOf(child) : parent.cover;
     elements_.push_back(child);
   }

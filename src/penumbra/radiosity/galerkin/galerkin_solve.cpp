@@ -176,19 +176,11 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const Lin
   double change = 0, maxRadiosity = 0;
   LinearRgb pulled{};
   for (int c = first; c < first + 4; ++c) {
-    const BasisTransfer t = elements_[c].fromParent;
-    LinearRgb childD{}, childI{};
-    for (int alpha = 0; alpha < 3; ++alpha)
-      for (int beta = 0; beta < 3; ++beta) {
-        childD[alpha] += d[beta] * t[beta][alpha];
-        childI[alpha] += i[beta] * t[beta][alpha];
-      }
-    change = std::max(change, pushPull({NodeRef::kElement, c}, childD, childI, {}, {}));
+    const BasisTransfer& t = elements_[c].fromParent;
+    change = std::max(change, pushPull({NodeRef::kElement, c}, restrictedToChild(d, t),
+                                       restrictedToChild(i, t), {}, {}));
     const GElement& child = elements_[c];
-    const double share = child.area / parentArea;
-    for (int beta = 0; beta < 3; ++beta)
-      for (int alpha = 0; alpha < 3; ++alpha)
-        pulled[beta] += child.node.radiosity[alpha] * (share * t[beta][alpha]);
+    addProjectionToParent(pulled, child.node.radiosity, t, child.area / parentArea);
     maxRadiosity = std::max(maxRadiosity, child.node.maxRadiosity);
   }
   elements_[n.index].node.radiosity = pulled;

@@ -102,4 +102,18 @@ BasisTransfer basisTransfer(const LinearBasis& parent, const LinearBasis& child,
   return transfer;
 }
 
+LinearRgb restrictedToChild(const LinearRgb& parent, const BasisTransfer& transfer) {
+  LinearRgb child{};
+  for (int alpha = 0; alpha < 3; ++alpha)
+    for (int beta = 0; beta < 3; ++beta) child[alpha] += parent[beta] * transfer[beta][alpha];
+  return child;
+}
+
+void addProjectionToParent(LinearRgb& parent, const LinearRgb& child, const BasisTransfer& transfer,
+                           double share) {
+  for (int beta = 0; beta < 3; ++beta)
+    for (int alpha = 0; alpha < 3; ++alpha)
+      parent[beta] += child[alpha] * (share * transfer[beta][alpha]);
+}
+
 }  // namespace penumbra

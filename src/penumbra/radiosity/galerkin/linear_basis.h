@@ -73,5 +73,11 @@ ExactCubature quadraticCubature(const ElementShape& shape);
 using BasisTransfer = std::array<std::array<double, 3>, 3>;
 BasisTransfer basisTransfer(const LinearBasis& parent, const LinearBasis& child,
                             const ElementShape& childShape);
+// A parent's function restricted to a child: its coefficients in the child's basis.
+LinearRgb restrictedToChild(const LinearRgb& parent, const BasisTransfer& transfer);
+// Adds a child's function, the child covering `share` of the parent's area, to the projection
+// onto the parent's basis being summed in `parent`.
+void addProjectionToParent(LinearRgb& parent, const LinearRgb& child, const BasisTransfer& transfer,
+                           double share);
 
 }  // namespace penumbra
