@@ -650,6 +650,40 @@ TEST(Cli, RadiosityGalerkinReportsEveryFrame) {
   EXPECT_NE(unknown.output.find("--solver"), std::string::npos) << unknown.output;
 }
 
+// The line-space update over frames (`--update verify`): every frame after the first is an update
+// whose pairs all equal fresh estimates (else exit 3), reported with what it touched and its
+// distance from a fresh build at the same pose; the light moves too in this scene.
+TEST(Cli, RadiosityLineSpaceUpdateIsVerifiedAtEveryFrame) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-everything-moves.json";
+  const std::string path = dir.path("verify.json");
+  const RunResult r =
+      runPenumbra("radiosity " + scene +
+                  " --solver galerkin --update verify --tolerance 3e-3 --report " + path);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path));
+  EXPECT_EQ(report["update"], "verify");
+  ASSERT_EQ(report["frames"].size(), 4u);
+  for (size_t f = 1; f < report["frames"].size(); ++f) {
+    const nlohmann::json& frame = report["frames"][f];
+    EXPECT_EQ(frame["moved_objects"], 3);
+    EXPECT_FALSE(frame["update"]["rebuilt"].get<bool>());
+    EXPECT_GT(frame["update"]["links_met"].get<long long>(), 0);
+    for (const char* stage : {"repose", "traverse", "refine", "solve"})
+      EXPECT_GE(frame["update"]["stage_seconds"][stage].get<double>(), 0) << stage;
+    EXPECT_LT(frame["fresh"]["relative_l2_difference"].get<double>(), 0.02);
+    EXPECT_GT(frame["fresh"]["active_links"].get<long long>(), 100);
+  }
+  for (const std::string& wrong :
+       {"radiosity " + scene + " --update linespace",  // the hierarchical solver has none
+        "radiosity " + scene + " --solver galerkin --update sideways"}) {
+    const RunResult refused = runPenumbra(wrong);
+    EXPECT_EQ(refused.exitCode, 1) << wrong << ": " << refused.output;
+    EXPECT_NE(refused.output.find("--update"), std::string::npos) << refused.output;
+  }
+}
+
 // Exit code 2 (bad input) from every verb that reads a scene, with a message naming the file:
 // malformed JSON (file, line and column) and well-formed JSON that is not a valid scene (file and
 // JSON pointer).

@@ -3,7 +3,9 @@
 // rebuilt), and must print exactly what `--full` prints after building frame K from scratch. Every
 // bundled moving scene and the glTF animation, for every deterministic method; points on every
 // receiver plus adversarial ones: the moving object's own corners (its polygons move under the
-// points' feet) and points on the floor right beside it.
+// points' feet) and points on the floor right beside it. (The Galerkin solver's line-space update
+// keeps its refinement history, so it is not a fresh build: `radiosity --update verify` checks
+// it, and the GalerkinUpdate tests.)
 
 #include <gtest/gtest.h>
 
@@ -55,8 +57,7 @@ std::string probePoints(const Scene& scene, int frame) {
 
 std::string probe(const std::string& scene, const std::string& points, const char* method,
                   int frame, bool full) {
-  const bool radiosity = std::string(method) == "radiosity" || std::string(method) == "combined" ||
-                         std::string(method) == "galerkin";
+  const bool radiosity = std::string(method) == "radiosity" || std::string(method) == "combined";
   const std::string extra = radiosity                             ? " --tolerance 1e-2"
                             : std::string(method) == "montecarlo" ? " --samples 16 --batches 2"
                                                                   : "";
@@ -93,19 +94,18 @@ INSTANTIATE_TEST_SUITE_P(
     BundledMotion, UpdateEqualsFull,
     testing::Values(
         Case{"cornell-box/cornell-box.json",
-             {"reference", "dm", "radiosity", "galerkin", "combined", "montecarlo"}},
+             {"reference", "dm", "radiosity", "combined", "montecarlo"}},
         Case{"cornell-box/cornell-mirror.json", {"reference", "dm"}},
         // Three objects move at each step, the light among them.
-        Case{"cornell-box/cornell-everything-moves.json",
-             {"reference", "dm", "radiosity", "galerkin"}},
+        Case{"cornell-box/cornell-everything-moves.json", {"reference", "dm", "radiosity"}},
         Case{"gltf/animated-box.gltf", {"reference", "dm", "radiosity", "combined", "montecarlo"}},
         Case{"office-desk/desk-145.json", {"reference", "dm", "montecarlo"}},
         Case{"office-desk/desk-145-close.json", {"reference", "dm"}},
         Case{"office-desk/desk-307.json", {"reference", "dm"}},
         Case{"office-desk/desk-475.json", {"reference", "dm"}},
-        Case{"chair-room/chair-room.json", {"reference", "dm", "radiosity", "galerkin"}},
+        Case{"chair-room/chair-room.json", {"reference", "dm", "radiosity"}},
         // 4 s per DM frame: its DM walk is left to `shadows --mode verify` runs.
-        Case{"chair-room/furnished-room.json", {"reference", "montecarlo", "galerkin"}}),
+        Case{"chair-room/furnished-room.json", {"reference", "montecarlo"}}),
     [](const testing::TestParamInfo<Case>& info) {
       std::string name = info.param.scene;
       for (char& ch : name)

@@ -123,7 +123,10 @@ int main(int argc, char** argv) {
       app.add_subcommand("radiosity", "Hierarchical radiosity over frames, with a JSON report");
   radiosityCommand->add_option("scene", radiosity.scene, "Scene file")->required();
   radiosityCommand->add_option("--frames", radiosity.frames, "Frames A:B (default: all)");
-  radiosityCommand->add_option("--update", radiosity.update, "full (linespace: later)");
+  radiosityCommand
+      ->add_option("--update", radiosity.update,
+                   "full | linespace | verify (the line-space update: --solver galerkin)")
+      ->capture_default_str();
   radiosityCommand->add_option("--solver", radiosity.solver,
                                "hierarchical (with a final gather) | galerkin (linear elements)");
   radiosityCommand->add_option("--tolerance", radiosity.radiosity.tolerance, "Refinement tolerance")

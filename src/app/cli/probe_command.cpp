@@ -126,10 +126,11 @@ int runProbe(const ProbeOptions& options, const CommonOptions& common) {
     }
   } else if (options.method == "galerkin") {
     // Total irradiance from the Galerkin core: the linear functions of the leaf holding the
-    // point. Each frame is solved from scratch (it has no update yet).
-    walkToFrame(live, options.frame, [](const SceneChange&) {});
+    // point; frame K reached by line-space updates from frame 0 unless --full.
     GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
     solver.build(live);
+    walkToFrame(live, options.frame,
+                [&](const SceneChange& change) { solver.update(live, change); });
     for (size_t i = 0; i < points.size(); ++i) {
       const auto sample = solver.sample(points[i].position, points[i].normal);
       if (!sample) throw lieOnNoReceiver(points[i]);

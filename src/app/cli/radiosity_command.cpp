@@ -2,8 +2,11 @@
 // [--tolerance T] --report R.json`: the radiosity solution over a range of frames, with per-frame
 // statistics.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "commands.h"
 #include "frame_range.h"
@@ -68,25 +71,114 @@ nlohmann::json statsJson(const GalerkinStats& s) {
             {"total", s.totalBytes()}}}};
 }
 
-// The Galerkin core over the frames (it recomputes each frame inside update()).
+nlohmann::json updateJson(const GalerkinUpdateStats& u) {
+  nlohmann::json j = {{"rebuilt", u.rebuilt},
+                      {"moved_elements", u.movedElements},
+                      {"cover_changed", u.coverChanged},
+                      {"clusters_changed", u.clustersChanged},
+                      {"shaft_tests", u.shaftTests},
+                      {"links_met", u.met},
+                      {"end_moved", u.endMoved},
+                      {"reestimated", u.reestimated},
+                      {"reused_visibility", u.reusedVisibility},
+                      {"refined", u.refined},
+                      {"cleaned_up", u.cleanedUp},
+                      {"created", u.created},
+                      {"dropped", u.dropped},
+                      {"added_by_radiosity_pass", u.laterSplits},
+                      {"stage_seconds",
+                       {{"repose", u.reposeSeconds},
+                        {"traverse", u.traverseSeconds},
+                        {"refine", u.refineSeconds},
+                        {"solve", u.solveSeconds}}}};
+  if (u.rebuilt) j["rebuild_reason"] = u.rebuildReason;
+  return j;
+}
+
+// How far the updated solution is from a fresh one at the same pose: the relative L2 difference
+// of the total irradiance at the fresh solution's leaf centroids (area-weighted).
+double relativeDifference(const GalerkinRadiosity& updated, const GalerkinRadiosity& fresh) {
+  double difference = 0, norm = 0;
+  for (const GalerkinRadiosity::GElement& e : fresh.elements()) {
+    if (!e.isLeaf() || e.cover == GalerkinRadiosity::GElement::kCovered) continue;
+    const Vec3 c = e.shape.centroid();
+    const auto a = updated.sample(c, e.shape.normal), b = fresh.sample(c, e.shape.normal);
+    if (!a || !b) continue;
+    const Rgb d = a->total() - b->total(), t = b->total();
+    difference += e.area * (d.r * d.r + d.g * d.g + d.b * d.b);
+    norm += e.area * (t.r * t.r + t.g * t.g + t.b * t.b);
+  }
+  return norm > 0 ? std::sqrt(difference / norm) : 0;
+}
+
+double balance(const GalerkinRadiosity& solver) {
+  return solver.absorbedPower().average() / std::max(solver.emittedPower().average(), 1e-300);
+}
+
+// The Galerkin core over the frames: built at the first, then each step by a fresh build
+// (--update full) or the line-space update (linespace; verify also checks every pair and
+// compares with a fresh build at the same pose).
 int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& common,
                 const Scene& scene, const FrameRange& range) {
+  if (options.update != "full" && options.update != "linespace" && options.update != "verify")
+    throw UsageError("--update " + options.update +
+                     " is not available (available: full, linespace, verify)");
+  const bool incremental = options.update != "full";
+  const bool verify = options.update == "verify";
   DynamicScene live(scene, range.first);
   GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("radiosity (galerkin)", range.last - range.first + 1, common.quiet);
   for (int frame = range.first; frame <= range.last; ++frame) {
-    const int moved = buildOrStep(live, solver, frame, frame == range.first);
+    int moved = 0;
+    if (incremental || frame == range.first) {
+      moved = buildOrStep(live, solver, frame, frame == range.first);
+    } else {
+      const SceneChange change = live.changeToFrame(frame);
+      live.apply(change);
+      moved = int(change.moves.size());
+      solver.build(live);
+    }
     const GalerkinStats& s = solver.stats();
     nlohmann::json entry = statsJson(s);
     entry["frame"] = frame;
     entry["seconds"] = s.totalSeconds;
     entry["moved_objects"] = moved;
+    entry["absorbed_over_emitted"] = balance(solver);
+    if (incremental && frame != range.first) entry["update"] = updateJson(solver.lastUpdate());
+    std::string freshLine;
+    if (verify && frame != range.first) {
+      const std::string difference = solver.verifyLinks();
+      GalerkinRadiosity fresh(galerkinOptions(options.radiosity, common));
+      fresh.build(live);
+      const double l2 = relativeDifference(solver, fresh);
+      entry["fresh"] = {{"seconds", fresh.stats().totalSeconds},
+                        {"active_links", fresh.stats().activeLinks},
+                        {"elements", fresh.stats().elements},
+                        {"absorbed_over_emitted", balance(fresh)},
+                        {"relative_l2_difference", l2}};
+      char line[160];
+      std::snprintf(line, sizeof line, "; fresh build: %.3f s, %lld links, L2 difference %.4f",
+                    fresh.stats().totalSeconds, fresh.stats().activeLinks, l2);
+      freshLine = line;
+      if (!difference.empty()) {
+        std::fprintf(stderr, "penumbra: verification failed at frame %d: %s\n", frame,
+                     difference.c_str());
+        return kVerificationFailed;
+      }
+    }
     frames.push_back(entry);
-    if (!common.quiet)
-      std::fprintf(stderr, "frame %d: %.3f s, %lld links, %lld elements (%lld leaves), %.1f MiB\n",
+    if (!common.quiet) {
+      std::fprintf(stderr, "frame %d: %.3f s, %lld links, %lld elements (%lld leaves), %.1f MiB",
                    frame, s.totalSeconds, s.activeLinks, s.elements, s.leaves,
                    double(s.totalBytes()) / (1 << 20));
+      if (incremental && frame != range.first) {
+        const GalerkinUpdateStats& u = solver.lastUpdate();
+        std::fprintf(stderr, "; %lld shaft tests, %lld pairs met, %lld split, %lld cleaned up",
+                     u.shaftTests, u.met, u.refined, u.cleanedUp);
+      }
+      std::fprintf(stderr, "%s\n", freshLine.c_str());
+    }
     progress.advance();
   }
   if (!options.report.empty()) {
@@ -102,13 +194,13 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
 }  // namespace
 
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common) {
-  if (options.update != "full")
-    throw UsageError("--update " + options.update +
-                     " is not available in this build (available: full; the line-space update "
-                     "is a later issue)");
   if (options.solver != "hierarchical" && options.solver != "galerkin")
     throw UsageError("--solver " + options.solver +
                      " is not available (available: hierarchical, galerkin)");
+  if (options.solver == "hierarchical" && options.update != "full")
+    throw UsageError("--update " + options.update +
+                     " is not available for --solver hierarchical (available: full; the "
+                     "line-space update is --solver galerkin's)");
   const Scene scene = loadScene(options.scene);
   const FrameRange range = parseFrameRange(options.frames, scene.frames);
   if (options.solver == "galerkin") return runGalerkin(options, common, scene, range);

@@ -23,41 +23,48 @@ bool isConvexQuad(const Polygon3& q, const Vec3& normal) {
 
 }  // namespace
 
+std::vector<Element> rootElementsOf(const PosedScene& scene, const WorldPolygon& polygon) {
+  std::vector<Element> elements;
+  const Material& material = scene.materialOf(polygon);
+  const Polygon3 loop = withoutRepeatedVertices(polygon.vertices);
+  if (loop.size() < 3 || polygon.area <= 0) return elements;
+  std::vector<std::array<Vec3, 4>> pieces;
+  std::vector<int> counts;
+  if (loop.size() == 3 || (loop.size() == 4 && isConvexQuad(loop, polygon.plane.normal))) {
+    std::array<Vec3, 4> v{};
+    std::copy(loop.begin(), loop.end(), v.begin());
+    pieces.push_back(v);
+    counts.push_back(int(loop.size()));
+  } else {
+    for (const auto& t : triangulate(loop)) {
+      pieces.push_back({loop[t[0]], loop[t[1]], loop[t[2]], {}});
+      counts.push_back(3);
+    }
+  }
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    Element e;
+    e.vertices = pieces[k];
+    e.vertexCount = std::uint8_t(counts[k]);
+    e.polygon = polygon.id;
+    e.normal = polygon.plane.normal;
+    e.area = elementArea(e.vertices, e.vertexCount);
+    if (e.area <= 0) continue;
+    e.reflectance = material.reflectance;
+    e.radiometry.emission = material.emission;
+    elements.push_back(e);
+  }
+  return elements;
+}
+
 std::vector<Element> rootElements(const PosedScene& scene,
                                   std::vector<std::vector<int>>& polygonRoots) {
   std::vector<Element> elements;
   polygonRoots.assign(scene.polygons.size(), {});
-  for (const WorldPolygon& polygon : scene.polygons) {
-    const Material& material = scene.materialOf(polygon);
-    const Polygon3 loop = withoutRepeatedVertices(polygon.vertices);
-    if (loop.size() < 3 || polygon.area <= 0) continue;
-    std::vector<std::array<Vec3, 4>> pieces;
-    std::vector<int> counts;
-    if (loop.size() == 3 || (loop.size() == 4 && isConvexQuad(loop, polygon.plane.normal))) {
-      std::array<Vec3, 4> v{};
-      std::copy(loop.begin(), loop.end(), v.begin());
-      pieces.push_back(v);
-      counts.push_back(int(loop.size()));
-    } else {
-      for (const auto& t : triangulate(loop)) {
-        pieces.push_back({loop[t[0]], loop[t[1]], loop[t[2]], {}});
-        counts.push_back(3);
-      }
-    }
-    for (size_t k = 0; k < pieces.size(); ++k) {
-      Element e;
-      e.vertices = pieces[k];
-      e.vertexCount = std::uint8_t(counts[k]);
-      e.polygon = polygon.id;
-      e.normal = polygon.plane.normal;
-      e.area = elementArea(e.vertices, e.vertexCount);
-      if (e.area <= 0) continue;
-      e.reflectance = material.reflectance;
-      e.radiometry.emission = material.emission;
+  for (const WorldPolygon& polygon : scene.polygons)
+    for (Element& e : rootElementsOf(scene, polygon)) {
       polygonRoots[polygon.id].push_back(int(elements.size()));
-      elements.push_back(e);
+      elements.push_back(std::move(e));
     }
-  }
   return elements;
 }
 
@@ -67,6 +74,7 @@ namespace {
 // recursively; an octant with one element contributes that element directly.
 struct ClusterBuilder {
   const std::vector<Element>& elements;
+  const std::vector<Vec3>& keys;  // where each element sits, for the octants
   ClusterHierarchy& out;
   int build(int begin, int end, int depth);
 };
@@ -83,8 +91,7 @@ int ClusterBuilder::build(int begin, int end, int depth) {
   for (int i = begin; i < end; ++i) {
     const Element& e = elements[order[i]];
     cluster.bounds.extend(e.bounds());
-    cluster.area += e.area;
-    centroids.extend(e.centroid());
+    centroids.extend(keys[order[i]]);
   }
   const bool isSmall = end - begin <= kMaxElementsPerLeafCluster || depth >= kMaxClusterDepth ||
                        centroids.diagonalLength() == 0;
@@ -93,7 +100,7 @@ int ClusterBuilder::build(int begin, int end, int depth) {
   } else {
     const Vec3 mid = centroids.center();
     const auto octant = [&](int element) {
-      const Vec3 c = elements[element].centroid();
+      const Vec3& c = keys[element];
       return (c.x > mid.x ? 1 : 0) | (c.y > mid.y ? 2 : 0) | (c.z > mid.z ? 4 : 0);
     };
     std::stable_sort(order.begin() + begin, order.begin() + end,
@@ -111,6 +118,9 @@ int ClusterBuilder::build(int begin, int end, int depth) {
       first = last;
     }
   }
+  // Summed in the final order of the range (the octant sort above reorders it), which is how a
+  // moving hierarchy sums it again after a move: equal areas mean equal bits.
+  for (int i = begin; i < end; ++i) cluster.area += elements[order[i]].area;
   clusters[index] = std::move(cluster);
   return index;
 }
@@ -122,7 +132,37 @@ ClusterHierarchy buildClusterHierarchy(const std::vector<Element>& roots) {
   hierarchy.rootOrder.resize(roots.size());
   for (size_t i = 0; i < roots.size(); ++i) hierarchy.rootOrder[i] = int(i);
   hierarchy.clusters.reserve(roots.size());
-  ClusterBuilder{roots, hierarchy}.build(0, int(roots.size()), 0);
+  std::vector<Vec3> centroids(roots.size());
+  for (size_t i = 0; i < roots.size(); ++i) centroids[i] = roots[i].centroid();
+  ClusterBuilder{roots, centroids, hierarchy}.build(0, int(roots.size()), 0);
+  return hierarchy;
+}
+
+ClusterHierarchy buildClusterHierarchy(const std::vector<Element>& roots,
+                                       const std::vector<std::vector<int>>& groups,
+                                       const std::vector<Vec3>& keys) {
+  ClusterHierarchy hierarchy;
+  for (const std::vector<int>& group : groups)
+    hierarchy.rootOrder.insert(hierarchy.rootOrder.end(), group.begin(), group.end());
+  hierarchy.clusters.reserve(roots.size() + 1);
+  hierarchy.clusters.emplace_back();
+  ClusterNode root;
+  root.elementEnd = int(hierarchy.rootOrder.size());
+  ClusterBuilder builder{roots, keys, hierarchy};
+  int begin = 0;
+  for (const std::vector<int>& group : groups) {
+    const int end = begin + int(group.size());
+    if (end - begin == 1)
+      root.children.push_back({NodeRef::kElement, hierarchy.rootOrder[begin]});
+    else if (end > begin)
+      root.children.push_back({NodeRef::kCluster, builder.build(begin, end, 1)});
+    begin = end;
+  }
+  for (int element : hierarchy.rootOrder) {
+    root.bounds.extend(roots[element].bounds());
+    root.area += roots[element].area;
+  }
+  hierarchy.clusters[0] = std::move(root);
   return hierarchy;
 }
 

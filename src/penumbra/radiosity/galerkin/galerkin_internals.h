@@ -2,6 +2,8 @@
 // What the Galerkin solver's steps share (not part of its API).
 
 #include <array>
+#include <cstdint>
+#include <vector>
 
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 
@@ -11,15 +13,26 @@ struct GalerkinRadiosity::Counters {
   long long pointPairs = 0;
   long long visibilityRays = 0;
   long long unoccludedLinks = 0;
+  long long reusedRays = 0;  // point pairs whose visibility a move could not change
 };
 
 // A link's estimate: its coefficients and the oracle's figures.
 struct GalerkinRadiosity::Estimate {
   std::array<double, 9> k{};
-  double meanTransfer = 0;    // the mean point-pair transfer
-  double spread = 0;          // max − min of the point-pair transfers
-  double hiddenTransfer = 0;  // what the pairs found hidden would carry (weighted as the mean)
-  Vec3 direction;             // unit, from the receiver's centre to the source's
+  double meanTransfer = 0;        // the mean point-pair transfer
+  double spread = 0;              // max − min of the point-pair transfers
+  double hiddenTransfer = 0;      // what the pairs found hidden would carry (weighted as the mean)
+  Vec3 direction;                 // unit, from the receiver's centre to the source's
+  std::uint16_t hiddenPairs = 0;  // bit 4i + j: point pair (i, j) found hidden
+  bool everyRay = false;          // a ray per pair, without the candidate-box test first
+};
+
+// What an update may keep of a pair's visibility: the stored answers of the point pairs whose
+// segments miss every moved box (their candidates and the rays they could meet are as before).
+struct GalerkinRadiosity::VisibilityReuse {
+  std::uint16_t hiddenPairs = 0;
+  bool everyRay = false;
+  const std::vector<Box3>* movedBoxes = nullptr;
 };
 
 }  // namespace penumbra

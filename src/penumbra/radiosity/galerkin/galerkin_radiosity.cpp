@@ -13,6 +13,7 @@
 #include "penumbra/radiosity/face_contacts.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/hierarchy_building.h"
+#include "penumbra/scene/scene.h"
 #include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/receiver_locator.h"
 
@@ -37,7 +38,9 @@ void GalerkinRadiosity::clear() {
   elements_.clear();
   polygonRoots_.clear();
   clusters_.clear();
+  rootOrder_.clear();
   links_.clear();
+  linkCount_ = 0;
   stats_ = {};
 }
 
@@ -66,10 +69,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
     emittedPower += e.area * e.node.emission.maxComponent();
   }
   for (GElement& e : elements_) e.cover = coverOf(e);
-  ClusterHierarchy hierarchy = buildClusterHierarchy(roots);
-  clusters_.resize(hierarchy.clusters.size());
-  for (size_t i = 0; i < clusters_.size(); ++i)
-    clusters_[i].structure = std::move(hierarchy.clusters[i]);
+  buildHierarchy(scene.scene(), roots);
   threshold_ = options_.tolerance * emittedPower;
   minArea_ = options_.minAreaFactor * options_.tolerance * totalArea;
   pullEmission({NodeRef::kCluster, 0});
@@ -82,7 +82,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
       auto all = std::make_shared<std::vector<PolygonId>>(scene_.polygons.size());
       for (size_t i = 0; i < all->size(); ++i) (*all)[i] = PolygonId(i);
       const NodeRef root{NodeRef::kCluster, 0};
-      refine({{root, root, all}}, counters);
+      refine({{root, root, all, -1}}, counters);
       refined = true;
     } else {
       refined = refineActiveLinks(counters);
@@ -96,16 +96,61 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
+  countStats();
+  stats_.totalSeconds = elapsedSeconds(start);
+}
+
+void GalerkinRadiosity::countStats() {
   stats_.elements = (long long)elements_.size();
   stats_.clusters = (long long)clusters_.size();
+  stats_.leaves = stats_.activeLinks = stats_.passiveLinks = 0;
   for (const GElement& e : elements_) stats_.leaves += e.isLeaf() ? 1 : 0;
-  for (const GLink& l : links_) (l.active ? stats_.activeLinks : stats_.passiveLinks) += 1;
+  for (const GLink& l : links_) {
+    stats_.activeLinks += l.state == GLink::kActive ? 1 : 0;
+    stats_.passiveLinks += l.state == GLink::kPassive ? 1 : 0;
+  }
   stats_.elementBytes = elements_.capacity() * sizeof(GElement);
   stats_.clusterBytes = clusters_.capacity() * sizeof(GCluster);
   for (const GCluster& c : clusters_)
     stats_.clusterBytes += c.structure.children.capacity() * sizeof(NodeRef);
+  // Every pair, and the candidate lists the split ones keep for their children.
   stats_.linkBytes = links_.capacity() * sizeof(GLink);
-  stats_.totalSeconds = elapsedSeconds(start);
+  for (const GLink& l : links_)
+    if (l.candidates && l.state != GLink::kSelf)
+      stats_.linkBytes += l.candidates->capacity() * sizeof(PolygonId);
+}
+
+void GalerkinRadiosity::buildHierarchy(const Scene& scene, const std::vector<Element>& roots) {
+  // The static scene's roots sit at their centroids; a moving object's at its polygons' vertex
+  // means in object coordinates, which no pose changes.
+  std::vector<std::vector<int>> groups(1);
+  std::vector<int> groupOfObject(scene.objects.size(), 0);
+  for (size_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].isDynamic()) {
+      groupOfObject[o] = int(groups.size());
+      groups.emplace_back();
+    }
+  std::vector<Vec3> keys(roots.size());
+  for (size_t i = 0; i < roots.size(); ++i) {
+    const WorldPolygon& polygon = scene_.polygons[roots[i].polygon];
+    const int object = polygon.objectIndex;
+    groups[groupOfObject[object]].push_back(int(i));
+    if (groupOfObject[object] == 0) {
+      keys[i] = roots[i].centroid();
+      continue;
+    }
+    const Polygon3& local =
+        scene.objects[object].polygons[polygon.id - scene_.objectFirstPolygon[object]];
+    Vec3 sum;
+    for (const Vec3& v : local) sum = sum + v;
+    keys[i] = sum / double(local.size());
+  }
+  ClusterHierarchy hierarchy = groups.size() == 1 ? buildClusterHierarchy(roots)
+                                                  : buildClusterHierarchy(roots, groups, keys);
+  rootOrder_ = std::move(hierarchy.rootOrder);
+  clusters_.resize(hierarchy.clusters.size());
+  for (size_t i = 0; i < clusters_.size(); ++i)
+    clusters_[i].structure = std::move(hierarchy.clusters[i]);
 }
 
 void GalerkinRadiosity::prepare(GElement& e) {
@@ -131,8 +176,10 @@ GalerkinRadiosity::GElement::Cover GalerkinRadiosity::coverOf(const GElement& e)
                                      : GElement::kPartlyCovered;
 }
 
-void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange&) {
-  build(scene);
+GalerkinRadiosity::GElement::Cover GalerkinRadiosity::freshCover(const GElement& e) const {
+  if (e.parent < 0) return coverOf(e);
+  const GElement::Cover parent = elements_[e.parent].cover;
+  return parent == GElement::kPartlyCovered ? coverOf(e) : parent;
 }
 
 std::optional<int> GalerkinRadiosity::leafContaining(const Vec3& point, const Vec3& normal) const {

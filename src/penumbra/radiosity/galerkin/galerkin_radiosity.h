@@ -17,6 +17,12 @@
 //  - Jacobi gathering with push-pull; irradiance from emission ("direct") and from reflected
 //    radiosity ("indirect") kept apart. The solution shown at a point is the linear function of
 //    the leaf that holds it: no final gather.
+//  - The line-space update (Drettakis & Sillion 1997; galerkin_update.cpp): every node pair the
+//    refinement met is kept, split ones too (passive), with the occluder candidates its children
+//    filter; a move re-poses the moving objects' elements (each object its own cluster subtree,
+//    cut in its own coordinates, so the hierarchy has the same shape at every pose), walks the
+//    pairs from the root and re-estimates only those whose shaft the object's old or new box
+//    meets, refines or cleans up there, and solves from the previous solution.
 //
 // Units: B, M in W/m²; irradiance in W/m²; B = M + ρ E (DESIGN.md §5).
 
@@ -24,6 +30,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "penumbra/radiosity/cluster.h"
@@ -35,6 +42,7 @@
 namespace penumbra {
 
 class DynamicScene;
+struct Scene;
 class RayCaster;
 struct SceneChange;
 class UniformGrid;
@@ -79,6 +87,30 @@ struct GalerkinStats {
   double totalSeconds = 0;
 };
 
+// What one line-space update did (GalerkinRadiosity::update).
+struct GalerkinUpdateStats {
+  bool rebuilt = false;  // recomputed from scratch instead (the reason below)
+  const char* rebuildReason = "";
+  long long movedElements = 0;     // elements re-posed
+  long long coverChanged = 0;      // elements whose contact cover changed
+  long long clustersChanged = 0;   // clusters whose box changed
+  long long shaftTests = 0;        // pairs whose shaft was tested against the moved boxes
+  long long met = 0;               // pairs the move may have changed (shaft or end)
+  long long endMoved = 0;          // of them, pairs with an end (or inherited candidates) changed
+  long long reestimated = 0;       // of them, estimated again (the others: a cluster's self pair)
+  long long reusedVisibility = 0;  // point pairs whose stored visibility the move left as it was
+  long long refined = 0;           // links split because of the move
+  long long cleanedUp = 0;         // split pairs made links again, their children dropped
+  long long created = 0;           // new pairs estimated below new splits
+  long long dropped = 0;           // pairs dropped with cleaned-up subtrees
+  long long laterSplits = 0;       // pairs added by the pass on the last solve's radiosities
+  double reposeSeconds = 0;        // elements, contacts, cluster boxes, emission lobes
+  double traverseSeconds = 0;      // the walk and the re-estimates
+  double refineSeconds = 0;        // new subtrees, and the passes after the first solve
+  double solveSeconds = 0;
+  double totalSeconds = 0;
+};
+
 class GalerkinRadiosity {
  public:
   explicit GalerkinRadiosity(const GalerkinOptions& options = {});
@@ -86,9 +118,16 @@ class GalerkinRadiosity {
   // Builds the hierarchy at the scene's current pose and solves (the scene's grid and ray
   // caster are used during the call only).
   void build(const DynamicScene& scene);
-  // The solution at the scene's new pose after `change` was applied to it: for now a full
-  // recomputation (the line-space update is issue 17's).
+  // The solution at the scene's new pose after `change` was applied to it, by the line-space
+  // update (galerkin_update.cpp): not bit for bit a fresh build (refinement keeps its history),
+  // but every pair it keeps is estimated exactly as a fresh estimate at this pose would be
+  // (verifyLinks). Rebuilds from scratch when the scene's extent grew or nothing was built.
   void update(const DynamicScene& scene, const SceneChange& change);
+  // Re-estimates every pair of the hierarchy as it stands (candidates from the root down,
+  // cluster boxes, element shapes and covers recomputed from the scene) and compares each with
+  // what is stored, bit for bit: empty when all agree, else the first difference in words.
+  std::string verifyLinks() const;
+  const GalerkinUpdateStats& lastUpdate() const { return lastUpdate_; }
 
   // Direct and indirect irradiance and radiosity at a point on the front of a receiver, from the
   // linear functions of the leaf holding it (negative values of a steep linear function clamped
@@ -141,7 +180,19 @@ class GalerkinRadiosity {
     AxisLobes emittedLobes{}, reflectedLobes{};
     AxisLobes gatheredDirectLobes{}, gatheredIndirectLobes{};
   };
+  // The occluder candidates of a pair's shaft (shared: a split hands them to every child).
+  using Candidates = std::shared_ptr<const std::vector<PolygonId>>;
+  // A node pair the refinement met. All are kept, not only the links (the refinement's history,
+  // Drettakis & Sillion's passive links), so that a move can revisit exactly the pairs whose
+  // shafts it crosses. A pair's children are contiguous in links().
   struct GLink {
+    enum State : std::uint8_t {
+      kActive,   // a link: carries light in the solve
+      kPassive,  // split: its children (one end's children with the other end) replace it
+      kSelf,     // a cluster with itself: every pair of its children
+      kNone,     // the ends cannot exchange light (back to back, covered, one polygon)
+      kDropped,  // removed by an update's clean-up (storage left until the next build)
+    };
     NodeRef receiver, source;
     // K[β][α], β over the receiver's basis, α over the source's. A cluster end has one
     // coefficient: a cluster source's is per unit of the exitance its lobes send towards the
@@ -150,8 +201,16 @@ class GalerkinRadiosity {
     Vec3 direction;          // unit, from the receiver's centre to the source's (for cluster ends)
     float meanTransfer = 0;  // the mean point-pair transfer (K[0][0])
     float spread = 0;        // max − min of the point-pair transfers
-    float hiddenTransfer = 0;  // what its pairs found hidden would carry
-    bool active = true;
+    float hiddenTransfer = 0;       // what its pairs found hidden would carry
+    std::uint16_t hiddenPairs = 0;  // which point pairs were hidden (Estimate::hiddenPairs)
+    bool everyRay = false;
+    State state = kActive;
+    bool splitReceiver = false;  // kPassive: the end split was the receiver
+    int parent = -1;             // the pair it came from (-1: the root's pair with itself)
+    int firstChild = -1;         // kPassive, kSelf: its children, contiguous
+    int childCount = 0;
+    Candidates candidates;  // kPassive, kSelf: what its children's candidates are filtered from
+    bool active() const { return state == kActive; }
   };
   const std::vector<GElement>& elements() const { return elements_; }
   const std::vector<GLink>& links() const { return links_; }
@@ -160,34 +219,56 @@ class GalerkinRadiosity {
   struct Estimate;
   struct Counters;
   void clear();
+  void countStats();
   // Can any light leave s and reach r (their fronts face each other somewhere)?
   bool canExchange(NodeRef r, NodeRef s) const;
+  struct VisibilityReuse;
   Estimate estimate(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates,
-                    Counters& counters) const;
+                    Counters& counters, const VisibilityReuse* reuse = nullptr) const;
   // The polygons of `among` that may meet the link's shaft.
   std::vector<PolygonId> shaftCandidates(NodeRef r, NodeRef s,
                                          const std::vector<PolygonId>& among) const;
-  std::vector<PolygonId> gridCandidates(NodeRef r, NodeRef s) const;
   double oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
                 double hiddenTransfer) const;
   // The interactions of receivers with sources still to estimate and refine, each with the
-  // occluder candidates of the link it comes from (shared: a split hands them to every child).
-  using Candidates = std::shared_ptr<const std::vector<PolygonId>>;
+  // occluder candidates of the pair it comes from, and that pair's index (-1: none).
   struct RefineTask {
     NodeRef receiver, source;
     Candidates candidates;
+    int parent = -1;
   };
   // Refines the tasks' interactions until the oracle is satisfied (refinement.cpp).
   void refine(std::vector<RefineTask> wave, Counters& counters);
   // The end of a link to split: the larger one (by its box's diagonal) if it can be split, else
   // the other, else none.
   std::optional<NodeRef> endToSplit(NodeRef r, NodeRef s) const;
-  // Queues the interactions that replace r with s once `end` (r or s) is split.
-  void queueChildren(NodeRef r, NodeRef s, NodeRef end, const Candidates& candidates,
+  // Queues the interactions that replace r with s once `end` (r or s) is split; `parent` is
+  // their pair's index.
+  void queueChildren(NodeRef r, NodeRef s, NodeRef end, const Candidates& candidates, int parent,
                      std::vector<RefineTask>& wave);
+  // Appends the pair a task became (its estimate when it exchanges) and links it to its parent.
+  int appendPair(const RefineTask& task, GLink::State state, const Estimate* estimate);
+  static void storeEstimate(GLink& link, const Estimate& e);
+  // The candidates a pair's children filter: its own stored ones.
+  const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
+  // Marks a pair's descendants dropped; returns how many.
+  long long dropChildren(int pair);
+  // The line-space update's steps (galerkin_update.cpp).
+  bool reposeMovedObjects(const SceneChange& change, std::vector<char>& elementChanged);
+  void refitClusters(std::vector<char>& clusterChanged);
+  void refreshEmission(NodeRef n);
+  // Groups of root elements for the movable hierarchy: the static scene, then each object that
+  // moves (keyframes), with where each root sits for the octants.
+  void buildHierarchy(const Scene& scene, const std::vector<Element>& roots);
   bool refineActiveLinks(Counters& counters);
   // Sets the element's basis and cubature from its shape.
   static void prepare(GElement& e);
+  // Gives `child` its shape (one of the parent's childVertices()), basis and area: the same
+  // whether the parent is split for the first time or moved with its object.
+  static void shapeChild(const GElement& parent, const std::array<Vec3, 4>& vertices,
+                         GElement& child);
+  // The cover a fresh split would give the element (a root's own; a child's from its parent's).
+  GElement::Cover freshCover(const GElement& e) const;
   // Splits the element (once) and returns its first child.
   int splitElement(int element);
   bool canSplit(NodeRef n) const;
@@ -221,7 +302,10 @@ class GalerkinRadiosity {
   std::vector<std::vector<int>> polygonRoots_;
   std::vector<std::vector<PolygonId>> contacts_;  // polygons in face-to-face contact with each
   std::vector<GCluster> clusters_;                // [0] is the root
+  std::vector<int> rootOrder_;                    // root elements in cluster order
   std::vector<GLink> links_;
+  long long linkCount_ = 0;  // active and passive pairs (the --max-links budget)
+  GalerkinUpdateStats lastUpdate_;
   double threshold_ = 0;  // tolerance x emitted power
   double minArea_ = 0;
   GalerkinStats stats_;

@@ -52,9 +52,62 @@ std::optional<NodeRef> GalerkinRadiosity::endToSplit(NodeRef r, NodeRef s) const
 }
 
 void GalerkinRadiosity::queueChildren(NodeRef r, NodeRef s, NodeRef end,
-                                      const Candidates& candidates, std::vector<RefineTask>& wave) {
+                                      const Candidates& candidates, int parent,
+                                      std::vector<RefineTask>& wave) {
   for (NodeRef child : children(end))
-    wave.push_back(end == r ? RefineTask{child, s, candidates} : RefineTask{r, child, candidates});
+    wave.push_back(end == r ? RefineTask{child, s, candidates, parent}
+                            : RefineTask{r, child, candidates, parent});
+}
+
+void GalerkinRadiosity::storeEstimate(GLink& link, const Estimate& e) {
+  link.k = e.k;
+  link.direction = e.direction;
+  link.meanTransfer = float(e.meanTransfer);
+  link.spread = float(e.spread);
+  link.hiddenTransfer = float(e.hiddenTransfer);
+  link.hiddenPairs = e.hiddenPairs;
+  link.everyRay = e.everyRay;
+}
+
+int GalerkinRadiosity::appendPair(const RefineTask& task, GLink::State state,
+                                  const Estimate* estimate) {
+  if (state == GLink::kActive || state == GLink::kPassive) {
+    if (linkCount_ >= options_.maxLinks)
+      throw budgetExceeded(options_.tolerance, "links", options_.maxLinks);
+    ++linkCount_;
+  }
+  GLink link;
+  link.receiver = task.receiver;
+  link.source = task.source;
+  if (estimate) storeEstimate(link, *estimate);
+  link.state = state;
+  link.parent = task.parent;
+  const int index = int(links_.size());
+  // A task's siblings are queued together and each task appends one pair, in order: children
+  // stay contiguous.
+  if (task.parent >= 0) {
+    GLink& parent = links_[task.parent];
+    if (parent.firstChild < 0) parent.firstChild = index;
+    ++parent.childCount;
+  }
+  links_.push_back(std::move(link));
+  return index;
+}
+
+long long GalerkinRadiosity::dropChildren(int pair) {
+  long long dropped = 0;
+  GLink& link = links_[pair];
+  const int first = link.firstChild, count = link.childCount;
+  link.firstChild = -1;
+  link.childCount = 0;
+  link.candidates.reset();
+  for (int c = first; c < first + count; ++c) {
+    dropped += 1 + dropChildren(c);
+    GLink& child = links_[c];
+    if (child.state == GLink::kActive || child.state == GLink::kPassive) --linkCount_;
+    child.state = GLink::kDropped;
+  }
+  return dropped;
 }
 
 std::vector<NodeRef> GalerkinRadiosity::children(NodeRef n) {
@@ -72,16 +125,12 @@ int GalerkinRadiosity::splitElement(int index) {
     throw budgetExceeded(options_.tolerance, "elements", options_.maxElements);
   const GElement parent = elements_[index];
   const int first = int(elements_.size());
-  for (const auto& vertices : parent.shape.childVertices()) {
+  const auto childVertices = parent.shape.childVertices();
+  for (const auto& vertices : childVertices) {
     GElement child;
-    child.shape.vertices = vertices;
-    child.shape.vertexCount = parent.shape.vertexCount;
-    child.shape.normal = parent.shape.normal;
-    prepare(child);
-    child.fromParent = basisTransfer(parent.basis, child.basis, child.shape);
+    shapeChild(parent, vertices, child);
     child.polygon = parent.polygon;
     child.parent = index;
-    child.area = elementArea(vertices, parent.shape.vertexCount);
     child.reflectance = parent.reflectance;
     child.node.emission = parent.node.emission;
     child.node.maxReflectance = parent.node.maxReflectance;
@@ -89,11 +138,21 @@ int GalerkinRadiosity::splitElement(int index) {
     // The parent's radiosity restricted to the child, until the next solve: the oracle of a
     // later pass reads it.
     child.node.radiosity = restrictedToChild(parent.node.radiosity, child.fromParent);
-    child.cover = parent.cover == GElement::kPartlyCovered ? coverOf(child) : parent.cover;
+    child.cover = freshCover(child);
     elements_.push_back(child);
   }
   elements_[index].firstChild = first;
   return first;
+}
+
+void GalerkinRadiosity::shapeChild(const GElement& parent, const std::array<Vec3, 4>& vertices,
+                                   GElement& child) {
+  child.shape.vertices = vertices;
+  child.shape.vertexCount = parent.shape.vertexCount;
+  child.shape.normal = parent.shape.normal;
+  prepare(child);
+  child.fromParent = basisTransfer(parent.basis, child.basis, child.shape);
+  child.area = elementArea(vertices, parent.shape.vertexCount);
 }
 
 // Refinement runs in waves, breadth first: each wave's node pairs are estimated in parallel
@@ -120,35 +179,34 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
     });
     std::vector<RefineTask> next;
     for (size_t i = 0; i < wave.size(); ++i) {
-      const NodeRef r = wave[i].receiver, s = wave[i].source;
+      const RefineTask& task = wave[i];
+      const NodeRef r = task.receiver, s = task.source;
       Outcome& out = outcomes[i];
       counters.pointPairs += out.counters.pointPairs;
       counters.visibilityRays += out.counters.visibilityRays;
       counters.unoccludedLinks += out.counters.unoccludedLinks;
-      if (!out.exchanges) continue;
+      if (!out.exchanges) {
+        appendPair(task, GLink::kNone, nullptr);
+        continue;
+      }
       if (r == s) {  // a cluster with itself: every pair of its children
+        const int pair = appendPair(task, GLink::kSelf, nullptr);
+        links_[pair].candidates = task.candidates;
         const std::vector<NodeRef> parts = children(r);
         for (NodeRef a : parts)
-          for (NodeRef b : parts) next.push_back({a, b, wave[i].candidates});
+          for (NodeRef b : parts) next.push_back({a, b, task.candidates, pair});
         continue;
       }
       const Estimate& e = out.estimate;
       if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
         if (const std::optional<NodeRef> end = endToSplit(r, s)) {
-          queueChildren(r, s, *end, out.own, next);
+          const int pair = appendPair(task, GLink::kPassive, &e);
+          links_[pair].splitReceiver = *end == r;
+          links_[pair].candidates = out.own;
+          queueChildren(r, s, *end, out.own, pair, next);
           continue;
         }
-      if ((long long)links_.size() >= options_.maxLinks)
-        throw budgetExceeded(options_.tolerance, "links", options_.maxLinks);
-      GLink link;
-      link.receiver = r;
-      link.source = s;
-      link.k = e.k;
-      link.direction = e.direction;
-      link.meanTransfer = float(e.meanTransfer);
-      link.spread = float(e.spread);
-      link.hiddenTransfer = float(e.hiddenTransfer);
-      links_.push_back(link);
+      appendPair(task, GLink::kActive, &e);
     }
     wave = std::move(next);
   }
@@ -156,20 +214,24 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
 
 bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
   std::vector<RefineTask> wave;
-  const size_t count = links_.size();
-  for (size_t i = 0; i < count; ++i) {
-    const GLink link = links_[i];
-    if (!link.active) continue;
+  const int count = int(links_.size());
+  for (int i = 0; i < count; ++i) {
+    const GLink& link = links_[i];
+    if (!link.active()) continue;
     if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
         threshold_)
       continue;
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
     if (!end) continue;
-    links_[i].active = false;
-    queueChildren(
-        link.receiver, link.source, *end,
-        std::make_shared<const std::vector<PolygonId>>(gridCandidates(link.receiver, link.source)),
-        wave);
+    // Its children filter what its own estimate used: the parent's candidates in its shaft.
+    const NodeRef r = link.receiver, s = link.source;
+    auto own = std::make_shared<const std::vector<PolygonId>>(
+        shaftCandidates(r, s, *candidatesOf(link.parent)));
+    GLink& split = links_[i];
+    split.state = GLink::kPassive;
+    split.splitReceiver = *end == r;
+    split.candidates = own;
+    queueChildren(r, s, *end, own, i, wave);
   }
   if (wave.empty()) return false;
   refine(std::move(wave), counters);

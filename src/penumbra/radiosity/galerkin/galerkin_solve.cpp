@@ -65,18 +65,35 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
 }
 
 void GalerkinRadiosity::solve(double convergence) {
+  // The links that carry light, copied together once: the pairs also hold the refinement's
+  // history, and the iterations run through these many times.
+  struct SolveLink {
+    NodeRef receiver, source;
+    std::array<double, 9> k;
+    Vec3 direction;
+  };
+  std::vector<SolveLink> active;
+  for (const GLink& link : links_)
+    if (link.active()) active.push_back({link.receiver, link.source, link.k, link.direction});
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
-    for (GElement& e : elements_) e.node.gatheredDirect = e.node.gatheredIndirect = {};
-    for (GCluster& c : clusters_) c.node.gatheredDirect = c.node.gatheredIndirect = {};
-    for (GCluster& c : clusters_) c.gatheredDirectLobes = c.gatheredIndirectLobes = {};
-    for (const GLink& link : links_) {
-      if (!link.active) continue;
+    // What arrives from emission does not change between iterations: gathered in the first.
+    const bool gatherDirect = iteration == 0;
+    for (GElement& e : elements_) {
+      e.node.gatheredIndirect = {};
+      if (gatherDirect) e.node.gatheredDirect = {};
+    }
+    for (GCluster& c : clusters_) {
+      c.node.gatheredIndirect = {};
+      c.gatheredIndirectLobes = {};
+      if (gatherDirect) c.node.gatheredDirect = {}, c.gatheredDirectLobes = {};
+    }
+    for (const SolveLink& link : active) {
       // What the source sends, per unit of the link's coefficients: an element's linear
       // functions; a cluster's lobes towards the receiver.
       LinearRgb emitted{}, reflected{};
       if (link.source.isCluster()) {
         const GCluster& source = clusters_[link.source.index];
-        emitted[0] = exitanceToward(source.emittedLobes, link.direction * -1.0);
+        if (gatherDirect) emitted[0] = exitanceToward(source.emittedLobes, link.direction * -1.0);
         reflected[0] = exitanceToward(source.reflectedLobes, link.direction * -1.0);
       } else {
         const Node& source = elements_[link.source.index].node;
@@ -90,17 +107,17 @@ void GalerkinRadiosity::solve(double convergence) {
       for (int beta = 0; beta < rows; ++beta)
         for (int alpha = 0; alpha < columns; ++alpha) {
           const double k = link.k[beta * 3 + alpha];
-          direct[beta] += emitted[alpha] * k;
+          if (gatherDirect) direct[beta] += emitted[alpha] * k;
           indirect[beta] += reflected[alpha] * k;
         }
       if (link.receiver.isCluster()) {
         GCluster& receiver = clusters_[link.receiver.index];
-        addArriving(receiver.gatheredDirectLobes, direct[0], link.direction);
+        if (gatherDirect) addArriving(receiver.gatheredDirectLobes, direct[0], link.direction);
         addArriving(receiver.gatheredIndirectLobes, indirect[0], link.direction);
       } else {
         Node& receiver = elements_[link.receiver.index].node;
         for (int beta = 0; beta < 3; ++beta) {
-          receiver.gatheredDirect[beta] += direct[beta];
+          if (gatherDirect) receiver.gatheredDirect[beta] += direct[beta];
           receiver.gatheredIndirect[beta] += indirect[beta];
         }
       }

@@ -1,0 +1,139 @@
+// Radiosity under motion: per keyframe step, GalerkinRadiosity::update (the line-space update) on
+// the live scene against a fresh build at the same pose, side by side in one run, on one thread;
+// with the update's stages, what it touched, and verifyLinks() after every step (outside the
+// timings). The keyframes are walked forward and back `--repeat` times; times are medians.
+//
+// Usage: radiosity_update [--repeat N] [--tolerance T] [SCENE...]  (default: the furnished room,
+// the chair room, the Cornell box)
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "penumbra/base/stopwatch.h"
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/dynamic_scene.h"
+
+namespace {
+
+using namespace penumbra;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct StepFigures {
+  std::vector<double> update, repose, traverse, refine, solve, full;
+  long long met = 0, endMoved = 0, reestimated = 0, rays = 0, reused = 0, links = 0;
+};
+
+// Returns how many steps failed verification.
+int benchScene(const std::string& path, int repeat, double tolerance) {
+  const Scene scene = loadScene(path);
+  GalerkinOptions options;
+  options.tolerance = tolerance;
+  options.threads = 1;
+  std::printf("%s (%d polygons, %d frames), tolerance %g, one thread\n", path.c_str(),
+              scene.polygonCount(), scene.frames, tolerance);
+  if (scene.frames < 2) {
+    std::printf("  no motion\n");
+    return 0;
+  }
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(options);
+  solver.build(live);
+  std::printf("  frame 0 built in %.3f s: %lld links, %lld elements, %.1f MiB\n",
+              solver.stats().totalSeconds, solver.stats().activeLinks, solver.stats().elements,
+              double(solver.stats().totalBytes()) / (1 << 20));
+  // Steps keyed by (from, to).
+  std::map<std::pair<int, int>, StepFigures> steps;
+  std::vector<int> walk;
+  for (int r = 0; r < repeat; ++r) {
+    for (int f = 1; f < scene.frames; ++f) walk.push_back(f);
+    for (int f = scene.frames - 2; f >= 0; --f) walk.push_back(f);
+  }
+  int failures = 0;
+  int from = 0;
+  for (int to : walk) {
+    const SceneChange change = live.changeToFrame(to);
+    live.apply(change);
+    const Stopwatch watch;
+    solver.update(live, change);
+    const double seconds = watch.seconds();
+    StepFigures& s = steps[{from, to}];
+    const GalerkinUpdateStats& u = solver.lastUpdate();
+    s.update.push_back(seconds);
+    s.repose.push_back(u.reposeSeconds);
+    s.traverse.push_back(u.traverseSeconds);
+    s.refine.push_back(u.refineSeconds);
+    s.solve.push_back(u.solveSeconds);
+    s.met = u.met;
+    s.endMoved = u.endMoved;
+    s.reestimated = u.reestimated;
+    s.rays = solver.stats().visibilityRays;
+    s.reused = u.reusedVisibility;
+    s.links = solver.stats().activeLinks;
+    if (u.rebuilt) std::printf("  step %d->%d rebuilt: %s\n", from, to, u.rebuildReason);
+    const std::string difference = solver.verifyLinks();
+    if (!difference.empty()) {
+      ++failures;
+      std::printf("  step %d->%d: VERIFICATION FAILED: %s\n", from, to, difference.c_str());
+    }
+    GalerkinRadiosity fresh(options);
+    fresh.build(live);
+    s.full.push_back(fresh.stats().totalSeconds);
+    from = to;
+  }
+  std::printf("  %-7s %9s %9s %9s %9s %9s %9s %7s %7s %7s %7s %8s %7s\n", "step", "update",
+              "repose", "traverse", "refine", "solve", "full", "ratio", "met", "ends", "rays",
+              "reused", "links");
+  std::vector<double> updates, fulls, traverses;
+  for (const auto& [key, s] : steps) {
+    const double update = median(s.update), full = median(s.full);
+    updates.push_back(update);
+    fulls.push_back(full);
+    traverses.push_back(median(s.traverse));
+    std::printf(
+        "  %2d->%-3d %8.1fms %8.2fms %8.1fms %8.1fms %8.1fms %8.0fms %6.1fx %7lld %7lld "
+        "%7lld %8lld %7lld\n",
+        key.first, key.second, 1e3 * update, 1e3 * median(s.repose), 1e3 * median(s.traverse),
+        1e3 * median(s.refine), 1e3 * median(s.solve), 1e3 * full, full / update, s.met, s.endMoved,
+        s.rays, s.reused, s.links);
+  }
+  std::printf(
+      "  median over steps: update %.1f ms (traversal %.1f ms), full %.0f ms: %.1fx; "
+      "verification %s\n",
+      1e3 * median(updates), 1e3 * median(traverses), 1e3 * median(fulls),
+      median(fulls) / median(updates), failures ? "FAILED" : "identical at every step");
+  return failures;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int repeat = 3;
+  double tolerance = GalerkinOptions{}.tolerance;
+  std::vector<std::string> scenes;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--repeat" && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--tolerance" && i + 1 < argc)
+      tolerance = std::atof(argv[++i]);
+    else
+      scenes.push_back(arg);
+  }
+  if (scenes.empty())
+    scenes = {PENUMBRA_SOURCE_DIR "/scenes/chair-room/furnished-room.json",
+              PENUMBRA_SOURCE_DIR "/scenes/chair-room/chair-room.json",
+              PENUMBRA_SOURCE_DIR "/scenes/cornell-box/cornell-box.json"};
+  int failures = 0;
+  for (const std::string& scene : scenes) failures += benchScene(scene, repeat, tolerance);
+  return failures ? 1 : 0;
+}

@@ -1,0 +1,317 @@
+// The line-space update of the Galerkin solver (Drettakis & Sillion 1997, "Interactive update of
+// global illumination using a line-space hierarchy"): after a move, only the node pairs whose
+// shafts the moving objects' old or new boxes may cross are estimated again; refinement there
+// splits or cleans up, and the solve starts from the previous solution.
+//
+// Why a pair that is not met keeps an estimate equal to a fresh one: a pair's estimate reads its
+// two ends (shapes, covers, cluster boxes), its occluder candidates (the polygons of its parent's
+// candidates that may meet its box-to-box shaft) and the rays along its point pairs, which stay
+// inside that shaft. If neither end changed and the shaft misses both boxes (grown by the ray
+// caster's tolerance), no moved polygon is or was a candidate, and no ray could meet one; and if
+// its parent's candidates did not change either, neither did its own. Shaft::mayIntersect is
+// monotone in the box and a child's ends lie inside its parent's, so below a pair that is not
+// met nothing is: the walk stops there. verifyLinks() checks it all.
+
+#include <algorithm>
+#include <memory>
+
+#include "penumbra/base/parallel_for.h"
+#include "penumbra/base/stopwatch.h"
+#include "penumbra/radiosity/face_contacts.h"
+#include "penumbra/radiosity/galerkin/galerkin_internals.h"
+#include "penumbra/radiosity/hierarchy_building.h"
+#include "penumbra/radiosity/shaft.h"
+#include "penumbra/scene/scene_change.h"
+#include "penumbra/spatial/dynamic_scene.h"
+#include "penumbra/spatial/ray_caster.h"
+
+namespace penumbra {
+
+namespace {
+
+// Does any of the boxes lie in the shaft between a and b?
+bool shaftMeets(const Box3& a, const Box3& b, const std::vector<Box3>& boxes) {
+  const Shaft shaft(a, b);
+  return std::any_of(boxes.begin(), boxes.end(),
+                     [&](const Box3& box) { return shaft.mayIntersect(box); });
+}
+
+bool sameBox(const Box3& a, const Box3& b) {
+  return a.min.x == b.min.x && a.min.y == b.min.y && a.min.z == b.min.z && a.max.x == b.max.x &&
+         a.max.y == b.max.y && a.max.z == b.max.z;
+}
+
+}  // namespace
+
+bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change,
+                                           std::vector<char>& elementChanged) {
+  // A moved element's descendants take their shapes from it, exactly as a first split would.
+  const auto reposeBelow = [&](auto& self, int index) -> void {
+    const int first = elements_[index].firstChild;
+    if (first < 0) return;
+    const auto childVertices = elements_[index].shape.childVertices();
+    for (int c = 0; c < 4; ++c) {
+      shapeChild(elements_[index], childVertices[c], elements_[first + c]);
+      elementChanged[first + c] = 1;
+      ++lastUpdate_.movedElements;
+      self(self, first + c);
+    }
+  };
+  for (const ObjectMove& move : change.moves) {
+    const PolygonId begin = scene_.objectFirstPolygon[move.object];
+    const PolygonId end = scene_.objectFirstPolygon[move.object + 1];
+    for (PolygonId p = begin; p < end; ++p) {
+      const std::vector<Element> roots = rootElementsOf(scene_, scene_.polygons[p]);
+      const std::vector<int>& ids = polygonRoots_[p];
+      if (roots.size() != ids.size()) return false;
+      for (size_t k = 0; k < roots.size(); ++k) {
+        GElement& e = elements_[ids[k]];
+        if (roots[k].vertexCount != e.shape.vertexCount) return false;
+        e.shape = roots[k];
+        prepare(e);
+        e.area = roots[k].area;
+        elementChanged[ids[k]] = 1;
+        ++lastUpdate_.movedElements;
+        reposeBelow(reposeBelow, ids[k]);
+      }
+    }
+  }
+  return true;
+}
+
+void GalerkinRadiosity::refitClusters(std::vector<char>& clusterChanged) {
+  // As the builder computes them: over the cluster's root elements in cluster order.
+  for (size_t c = 0; c < clusters_.size(); ++c) {
+    ClusterNode& cluster = clusters_[c].structure;
+    Box3 bounds;
+    double area = 0;
+    for (int i = cluster.elementBegin; i < cluster.elementEnd; ++i) {
+      const GElement& e = elements_[rootOrder_[i]];
+      bounds.extend(e.shape.bounds());
+      area += e.area;
+    }
+    clusterChanged[c] = !sameBox(bounds, cluster.bounds) || area != cluster.area;
+    cluster.bounds = bounds;
+    cluster.area = area;
+  }
+}
+
+void GalerkinRadiosity::refreshEmission(NodeRef n) {
+  if (n.isElement()) return;
+  Rgb emission;
+  AxisLobes lobes{};
+  for (NodeRef child : clusters_[n.index].structure.children) {
+    refreshEmission(child);
+    emission += nodeOf(child).emission * area(child);
+    addLobes(lobes, child, true);
+  }
+  GCluster& cluster = clusters_[n.index];
+  cluster.node.emission = cluster.structure.area > 0 ? emission / cluster.structure.area : Rgb{};
+  cluster.emittedLobes = lobes;
+}
+
+void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& change) {
+  const Stopwatch total;
+  Stopwatch stage;
+  lastUpdate_ = {};
+  const auto rebuild = [&](const char* reason) {
+    build(scene);
+    lastUpdate_.rebuilt = true;
+    lastUpdate_.rebuildReason = reason;
+    lastUpdate_.totalSeconds = total.seconds();
+  };
+  if (elements_.empty()) return rebuild("nothing was built");
+  if (change.extentGrows) return rebuild("the scene's extent grew");
+  scene_ = scene.posed();
+  grid_ = &scene.grid();
+  rays_ = &scene.rays();
+  stats_.refineSeconds = stats_.solveSeconds = 0;
+  stats_.iterations = 0;
+  stats_.pointPairs = stats_.visibilityRays = stats_.unoccludedLinks = 0;
+  if (change.moves.empty()) {
+    stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
+    return;
+  }
+
+  // 1. The moved objects' elements, the covers contacts give, the cluster boxes.
+  std::vector<char> elementChanged(elements_.size(), 0);
+  if (!reposeMovedObjects(change, elementChanged))
+    return rebuild("a moved polygon's root elements changed (its triangulation)");
+  std::vector<char> movedPolygon(scene_.polygons.size(), 0);
+  for (const ObjectMove& move : change.moves)
+    for (PolygonId p = scene_.objectFirstPolygon[move.object];
+         p < scene_.objectFirstPolygon[move.object + 1]; ++p)
+      movedPolygon[p] = 1;
+  std::vector<std::vector<PolygonId>> contacts = faceContacts(scene_);
+  for (PolygonId p = 0; p < PolygonId(contacts.size()); ++p) {
+    // A cover changes with the polygons in contact, or with one of them moving.
+    bool recover = movedPolygon[p] || contacts[p] != contacts_[p];
+    for (PolygonId q : contacts[p]) recover = recover || movedPolygon[q];
+    for (PolygonId q : contacts_[p]) recover = recover || movedPolygon[q];
+    if (!recover) continue;
+    contacts_[p] = std::move(contacts[p]);
+    const auto recoverBelow = [&](auto& self, int index) -> void {
+      GElement& e = elements_[index];
+      const GElement::Cover cover = freshCover(e);
+      // A partly covered element's estimates read which of its points are covered, which a
+      // moving partner changes even when the kind of cover stays.
+      if (cover != e.cover || cover == GElement::kPartlyCovered) {
+        lastUpdate_.coverChanged += cover != e.cover ? 1 : 0;
+        e.cover = cover;
+        elementChanged[index] = 1;
+      }
+      if (e.firstChild >= 0)
+        for (int c = 0; c < 4; ++c) self(self, e.firstChild + c);
+    };
+    for (int root : polygonRoots_[p]) recoverBelow(recoverBelow, root);
+  }
+  std::vector<char> clusterChanged(clusters_.size(), 0);
+  refitClusters(clusterChanged);
+  refreshEmission({NodeRef::kCluster, 0});
+  for (char c : clusterChanged) lastUpdate_.clustersChanged += c;
+  // The moved objects' boxes before and after, grown by what the ray caster may round.
+  std::vector<Box3> movedBoxes;
+  const double margin = 4 * rays_->epsilon() + 1e-9 * scene_.extent.diagonalLength();
+  for (const ObjectMove& move : change.moves) {
+    movedBoxes.push_back(move.boundsBefore.expanded(margin));
+    movedBoxes.push_back(move.boundsAfter.expanded(margin));
+  }
+  lastUpdate_.reposeSeconds = stage.lap();
+
+  // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then
+  // decided in order on one thread (so the result does not depend on the threads).
+  const auto endChanged = [&](NodeRef n) {
+    return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;
+  };
+  const auto setState = [&](GLink& link, GLink::State state) {
+    const auto counts = [](GLink::State s) {
+      return s == GLink::kActive || s == GLink::kPassive ? 1 : 0;
+    };
+    linkCount_ += counts(state) - counts(link.state);
+    link.state = state;
+  };
+  struct Outcome {
+    bool exchanges = false;
+    Candidates own;
+    Estimate estimate;
+    Counters counters;
+  };
+  Counters counters;
+  std::vector<RefineTask> fresh;
+  // A pair to visit, and whether its parent's candidates changed (then its own may have: the
+  // conservative shaft test can admit a polygon its parent's shaft rejected).
+  struct Visit {
+    int pair = 0;
+    bool inheritedChanged = false;
+  };
+  std::vector<Visit> wave{{0, false}};
+  while (!wave.empty()) {
+    std::vector<Visit> met;
+    for (const Visit& visit : wave) {
+      const GLink& link = links_[visit.pair];
+      if (visit.inheritedChanged || endChanged(link.receiver) || endChanged(link.source)) {
+        met.push_back(visit);
+        ++lastUpdate_.endMoved;
+        continue;
+      }
+      ++lastUpdate_.shaftTests;
+      if (shaftMeets(bounds(link.receiver), bounds(link.source), movedBoxes)) met.push_back(visit);
+    }
+    std::vector<Outcome> outcomes(met.size());
+    parallelFor((long long)met.size(), options_.threads, [&](long long m) {
+      const GLink& link = links_[met[m].pair];
+      Outcome& out = outcomes[m];
+      out.exchanges = canExchange(link.receiver, link.source);
+      if (!out.exchanges || link.receiver == link.source) return;
+      out.own = std::make_shared<const std::vector<PolygonId>>(
+          shaftCandidates(link.receiver, link.source, *candidatesOf(link.parent)));
+      // With both ends and the inherited candidates as they were, the stored estimate is a
+      // fresh one of the last pose: the point pairs whose segments miss the moved boxes keep
+      // their visibility.
+      const bool kept =
+          !met[m].inheritedChanged && !endChanged(link.receiver) && !endChanged(link.source);
+      const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
+      const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &movedBoxes};
+      out.estimate = estimate(link.receiver, link.source, *out.own, out.counters,
+                              kept && estimated ? &reuse : nullptr);
+    });
+    std::vector<Visit> next;
+    for (size_t m = 0; m < met.size(); ++m) {
+      const int i = met[m].pair;
+      Outcome& out = outcomes[m];
+      counters.pointPairs += out.counters.pointPairs;
+      counters.visibilityRays += out.counters.visibilityRays;
+      counters.unoccludedLinks += out.counters.unoccludedLinks;
+      counters.reusedRays += out.counters.reusedRays;
+      ++lastUpdate_.met;
+      const NodeRef r = links_[i].receiver, s = links_[i].source;
+      const auto visitChildren = [&](bool candidatesChanged) {
+        for (int c = links_[i].firstChild; c < links_[i].firstChild + links_[i].childCount; ++c)
+          next.push_back({c, candidatesChanged});
+      };
+      if (!out.exchanges) {
+        if (links_[i].state == GLink::kPassive) lastUpdate_.dropped += dropChildren(i);
+        setState(links_[i], GLink::kNone);
+        continue;
+      }
+      if (r == s) {  // a cluster with itself: its children's pairs are fixed, its candidates
+                     // its parent's
+        if (links_[i].parent >= 0) links_[i].candidates = candidatesOf(links_[i].parent);
+        visitChildren(met[m].inheritedChanged);
+        continue;
+      }
+      ++lastUpdate_.reestimated;
+      const Estimate& e = out.estimate;
+      std::optional<NodeRef> end;
+      if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
+        end = endToSplit(r, s);
+      GLink& link = links_[i];
+      storeEstimate(link, e);
+      if (end && link.state == GLink::kPassive && link.splitReceiver == (*end == r)) {
+        // Still split the same way: walk on.
+        const bool changed = !link.candidates || *link.candidates != *out.own;
+        link.candidates = out.own;
+        visitChildren(changed);
+      } else if (end) {  // split anew: a subtree for refinement below
+        lastUpdate_.dropped += dropChildren(i);
+        setState(links_[i], GLink::kPassive);
+        links_[i].splitReceiver = *end == r;
+        links_[i].candidates = out.own;
+        queueChildren(r, s, *end, out.own, i, fresh);
+        ++lastUpdate_.refined;
+      } else {
+        if (link.state == GLink::kPassive) {
+          lastUpdate_.dropped += dropChildren(i);
+          ++lastUpdate_.cleanedUp;
+        }
+        setState(links_[i], GLink::kActive);
+        links_[i].candidates.reset();
+      }
+    }
+    wave = std::move(next);
+  }
+  lastUpdate_.traverseSeconds = stage.lap();
+
+  // 3. New subtrees below new splits; the pass a build makes after each solve (the oracle with
+  // the radiosities the last solve left), here before the solve: one solve per update, its
+  // refinement following the light one move behind; then a solve from the previous solution.
+  const size_t before = links_.size();
+  if (!fresh.empty()) refine(std::move(fresh), counters);
+  lastUpdate_.created = (long long)(links_.size() - before);
+  const size_t count = links_.size();
+  if (options_.refinementPasses > 1) refineActiveLinks(counters);
+  lastUpdate_.laterSplits = (long long)(links_.size() - count);
+  lastUpdate_.refineSeconds = stage.lap();
+  solve(options_.convergence);
+  lastUpdate_.solveSeconds = stage.lap();
+  stats_.pointPairs = counters.pointPairs;
+  stats_.visibilityRays = counters.visibilityRays;
+  stats_.unoccludedLinks = counters.unoccludedLinks;
+  lastUpdate_.reusedVisibility = counters.reusedRays;
+  stats_.refineSeconds = lastUpdate_.traverseSeconds + lastUpdate_.refineSeconds;
+  stats_.solveSeconds = lastUpdate_.solveSeconds;
+  countStats();
+  stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
+}
+
+}  // namespace penumbra

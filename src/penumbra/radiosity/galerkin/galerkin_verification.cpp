@@ -1,0 +1,123 @@
+// Verification of the line-space update: everything a pair's estimate reads, recomputed from the
+// scene as it stands, and every pair estimated again, compared bit for bit with what is stored.
+
+#include <cstring>
+#include <sstream>
+
+#include "penumbra/radiosity/face_contacts.h"
+#include "penumbra/radiosity/galerkin/galerkin_internals.h"
+#include "penumbra/radiosity/hierarchy_building.h"
+
+namespace penumbra {
+
+namespace {
+
+template <typename T>
+bool sameBits(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+std::string describe(NodeRef n) {
+  return std::string(n.isCluster() ? "cluster " : "element ") + std::to_string(n.index);
+}
+
+}  // namespace
+
+std::string GalerkinRadiosity::verifyLinks() const {
+  std::ostringstream difference;
+  // The hierarchy: element shapes from the polygons down, covers, cluster boxes and areas.
+  std::vector<std::vector<int>> freshRoots;
+  const std::vector<Element> roots = rootElements(scene_, freshRoots);
+  for (size_t p = 0; p < freshRoots.size(); ++p) {
+    if (freshRoots[p].size() != polygonRoots_[p].size())
+      return "polygon " + std::to_string(p) + ": a different number of root elements";
+    for (size_t k = 0; k < freshRoots[p].size(); ++k) {
+      const Element& fresh = roots[freshRoots[p][k]];
+      const GElement& e = elements_[polygonRoots_[p][k]];
+      if (!sameBits(fresh.vertices, e.shape.vertices) || !sameBits(fresh.normal, e.shape.normal) ||
+          fresh.area != e.area)
+        return "polygon " + std::to_string(p) + ": root element " + std::to_string(k) +
+               " is not where the polygon is";
+    }
+  }
+  if (faceContacts(scene_) != contacts_) return "the stored face contacts are not the scene's";
+  for (size_t i = 0; i < elements_.size(); ++i) {
+    const GElement& e = elements_[i];
+    if (freshCover(e) != e.cover) return "element " + std::to_string(i) + ": a stale cover";
+    if (e.firstChild < 0) continue;
+    const auto children = e.shape.childVertices();
+    for (int c = 0; c < 4; ++c) {
+      const GElement& child = elements_[e.firstChild + c];
+      if (!sameBits(children[c], child.shape.vertices) ||
+          elementArea(children[c], e.shape.vertexCount) != child.area)
+        return "element " + std::to_string(e.firstChild + c) + " is not its parent's child";
+    }
+  }
+  for (size_t c = 0; c < clusters_.size(); ++c) {
+    const ClusterNode& cluster = clusters_[c].structure;
+    Box3 bounds;
+    double area = 0;
+    for (int i = cluster.elementBegin; i < cluster.elementEnd; ++i) {
+      bounds.extend(elements_[rootOrder_[i]].shape.bounds());
+      area += elements_[rootOrder_[i]].area;
+    }
+    if (!sameBits(bounds.min, cluster.bounds.min) || !sameBits(bounds.max, cluster.bounds.max) ||
+        area != cluster.area)
+      return "cluster " + std::to_string(c) + ": a stale box or area";
+  }
+
+  // Every live pair from the root down, its candidates from its parent's recomputed ones.
+  auto all = std::make_shared<std::vector<PolygonId>>(scene_.polygons.size());
+  for (size_t i = 0; i < all->size(); ++i) (*all)[i] = PolygonId(i);
+  std::vector<Candidates> candidates(links_.size());
+  Counters counters;
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    const GLink& link = links_[i];
+    const Candidates& inherited = link.parent < 0 ? Candidates(all) : candidates[link.parent];
+    const std::string pair = "pair " + std::to_string(i) + " (" + describe(link.receiver) +
+                             " from " + describe(link.source) + ")";
+    const bool exchanges = canExchange(link.receiver, link.source);
+    if (link.state == GLink::kDropped) return pair + ": dropped, yet its parent's child";
+    if (exchanges != (link.state != GLink::kNone))
+      return pair + (exchanges ? ": exchanges light, stored as not" : ": cannot exchange light");
+    if (link.state == GLink::kNone) continue;
+    if (link.state == GLink::kSelf) {
+      if (!link.candidates || *link.candidates != *inherited)
+        return pair + ": a cluster's own pair with stale candidates";
+      candidates[i] = inherited;
+    } else {
+      auto own = std::make_shared<const std::vector<PolygonId>>(
+          shaftCandidates(link.receiver, link.source, *inherited));
+      const Estimate e = estimate(link.receiver, link.source, *own, counters);
+      if (!sameBits(e.k, link.k) || !sameBits(e.direction, link.direction) ||
+          float(e.meanTransfer) != link.meanTransfer || float(e.spread) != link.spread ||
+          float(e.hiddenTransfer) != link.hiddenTransfer || e.hiddenPairs != link.hiddenPairs ||
+          e.everyRay != link.everyRay) {
+        difference.precision(17);
+        difference << pair << ": stored K " << link.k[0] << ", " << link.k[4] << ", mean "
+                   << link.meanTransfer << ", spread " << link.spread << ", hidden "
+                   << link.hiddenTransfer << ", pairs " << link.hiddenPairs << ", every ray "
+                   << link.everyRay << "; estimated again " << e.k[0] << ", " << e.k[4] << ", "
+                   << float(e.meanTransfer) << ", " << float(e.spread) << ", "
+                   << float(e.hiddenTransfer) << ", " << e.hiddenPairs << ", " << e.everyRay << " ("
+                   << own->size() << " candidates)";
+        return difference.str();
+      }
+      if (link.state == GLink::kPassive) {
+        if (!link.candidates || *link.candidates != *own)
+          return pair + ": a split pair with stale candidates";
+        candidates[i] = own;
+      }
+    }
+    for (int c = link.firstChild; c < link.firstChild + link.childCount; ++c) {
+      if (links_[c].parent != i) return "pair " + std::to_string(c) + ": a wrong parent";
+      stack.push_back(c);
+    }
+  }
+  return {};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,216 @@
+// The Galerkin solver's line-space update: after every move, each pair it keeps is estimated
+// exactly as a fresh estimate at the new pose would be (verifyLinks re-estimates every pair from
+// the scene), and the solution stays close to a fresh build's.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
+#include "penumbra/scene/scene_loader.h"
+#include "penumbra/spatial/dynamic_scene.h"
+
+namespace penumbra {
+namespace {
+
+Scene loadBundled(const std::string& relative) {
+  return loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/" + relative);
+}
+
+GalerkinOptions optionsAt(double tolerance, int threads = 1) {
+  GalerkinOptions o;
+  o.tolerance = tolerance;
+  o.threads = threads;
+  return o;
+}
+
+// Walks the keyframes forward and back, checking every pair after every step.
+void expectEveryPairFreshAlongTheKeyframes(const std::string& scenePath, double tolerance) {
+  const Scene scene = loadBundled(scenePath);
+  ASSERT_GE(scene.frames, 2);
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(optionsAt(tolerance));
+  solver.build(live);
+  std::vector<int> walk;
+  for (int f = 1; f < scene.frames; ++f) walk.push_back(f);
+  for (int f = scene.frames - 2; f >= 0; --f) walk.push_back(f);
+  for (int frame : walk) {
+    const SceneChange change = live.changeToFrame(frame);
+    live.apply(change);
+    solver.update(live, change);
+    EXPECT_FALSE(solver.lastUpdate().rebuilt) << solver.lastUpdate().rebuildReason;
+    EXPECT_GT(solver.lastUpdate().met, 0) << scenePath << " frame " << frame;
+    EXPECT_EQ(solver.verifyLinks(), "") << scenePath << " frame " << frame;
+  }
+}
+
+TEST(GalerkinUpdate, EveryPairIsAFreshEstimateAlongTheChairRoomsKeyframes) {
+  expectEveryPairFreshAlongTheKeyframes("chair-room/chair-room.json", 3e-3);
+}
+
+// Three objects move at each step, the light among them.
+TEST(GalerkinUpdate, EveryPairIsAFreshEstimateWhenTheLightMovesToo) {
+  expectEveryPairFreshAlongTheKeyframes("cornell-box/cornell-everything-moves.json", 1e-3);
+}
+
+int lightObject(const Scene& scene) {
+  for (int o = 0; o < int(scene.objects.size()); ++o)
+    for (int m : scene.objects[o].polygonMaterial)
+      if (scene.materials[m].isEmitter()) return o;
+  return -1;
+}
+
+// A caller's moves, not keyframes: random rotations and translations of the keyframed box, of a
+// static object (its elements live in the static clusters) and of the light; some drop the box
+// onto the floor (face-to-face contact), and the last leaves the scene's extent (a rebuild).
+TEST(GalerkinUpdate, EveryPairIsAFreshEstimateAfterRandomRigidMoves) {
+  const Scene scene = loadBundled("office-desk/desk-145.json");
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(optionsAt(3e-3));
+  solver.build(live);
+  // The keyframed box, and the smallest static object (a large one turned leaves the extent).
+  int box = -1, fixed = -1;
+  double smallest = INFINITY;
+  for (int o = 0; o < int(scene.objects.size()); ++o) {
+    Box3 bounds;
+    for (PolygonId p = live.posed().objectFirstPolygon[o];
+         p < live.posed().objectFirstPolygon[o + 1]; ++p)
+      bounds.extend(live.posed().polygons[p].bounds);
+    if (scene.objects[o].isDynamic())
+      box = o;
+    else if (o != lightObject(scene) && bounds.diagonalLength() < smallest)
+      fixed = o, smallest = bounds.diagonalLength();
+  }
+  ASSERT_GE(box, 0);
+  ASSERT_GE(fixed, 0);
+  const int movers[] = {box, fixed, lightObject(scene), box};
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const Box3 room = live.extent();
+  for (int step = 0; step < 16; ++step) {
+    const int object = movers[step % 4];
+    // A random rigid pose that stays inside the scene's extent (drawn again until it does).
+    const Vec3 d = room.diagonal();
+    Transform pose;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const Vec3 axis =
+          normalize(Vec3{unit(random), unit(random), unit(random)} + Vec3{0, 1e-3, 0});
+      const Vec3 offset{unit(random) * d.x, unit(random) * d.y, unit(random) * d.z};
+      // Turned about its own centre, which lands a quarter of the room's size from the room's.
+      Box3 local;
+      for (const Polygon3& polygon : scene.objects[object].polygons)
+        for (const Vec3& v : polygon) local.extend(v);
+      pose = Transform::fromTrs(room.center() + offset * 0.25,
+                                Quaternion::fromAxisAngle(axis, 3.2 * unit(random)), {1, 1, 1}) *
+             Transform::fromTrs(local.center() * -1.0, Quaternion::identity(), {1, 1, 1});
+      if (!live.changeMoving(object, pose).extentGrows) break;
+    }
+    if (step % 4 == 3) {
+      // Upright, resting on the floor: the box's lowest corner at the room's floor height.
+      pose = Transform::fromTrs(room.center(), Quaternion::identity(), {1, 1, 1});
+      const Box3 at = live.changeMoving(object, pose).moves[0].boundsAfter;
+      pose = Transform::fromTrs(room.center() - Vec3{0, at.min.y - room.min.y, 0},
+                                Quaternion::identity(), {1, 1, 1});
+    }
+    const SceneChange change = live.changeMoving(object, pose);
+    live.apply(change);
+    solver.update(live, change);
+    ASSERT_FALSE(solver.lastUpdate().rebuilt)
+        << "step " << step << ": " << solver.lastUpdate().rebuildReason;
+    EXPECT_EQ(solver.verifyLinks(), "") << "step " << step << ", object " << object;
+  }
+  const SceneChange far = live.changeMoving(
+      box, Transform::fromTrs(room.max + room.diagonal() * 2.0, Quaternion::identity(), {1, 1, 1}));
+  live.apply(far);
+  solver.update(live, far);
+  EXPECT_TRUE(solver.lastUpdate().rebuilt);
+  EXPECT_EQ(solver.verifyLinks(), "");
+}
+
+// The area-weighted relative L2 difference of the total irradiance between two solutions, at the
+// centroids of the second one's leaves.
+double relativeL2(const GalerkinRadiosity& a, const GalerkinRadiosity& b) {
+  double difference = 0, norm = 0;
+  for (const GalerkinRadiosity::GElement& e : b.elements()) {
+    if (!e.isLeaf()) continue;
+    const auto sa = a.sample(e.shape.centroid(), e.shape.normal);
+    const auto sb = b.sample(e.shape.centroid(), e.shape.normal);
+    if (!sa || !sb) continue;
+    const double d = (sa->total() - sb->total()).average(), t = sb->total().average();
+    difference += e.area * d * d;
+    norm += e.area * t * t;
+  }
+  return std::sqrt(difference / norm);
+}
+
+double balance(const GalerkinRadiosity& s) {
+  return s.absorbedPower().average() / s.emittedPower().average();
+}
+
+// The update keeps refinement history a fresh build does not have, so it is not equal to one;
+// issue 17 bounds how far: links within 3%, the energy balance within 0.002, and here the total
+// irradiance within 1% (relative L2) — a third of the solver's own median error at this
+// tolerance against the path tracer (GalerkinRadiosity tests).
+TEST(GalerkinUpdate, StaysCloseToAFreshBuildAtEveryFrame) {
+  const Scene scene = loadBundled("chair-room/chair-room.json");
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(optionsAt(1e-3));
+  solver.build(live);
+  for (int frame = 1; frame < scene.frames; ++frame) {
+    const SceneChange change = live.changeToFrame(frame);
+    live.apply(change);
+    solver.update(live, change);
+    GalerkinRadiosity fresh(optionsAt(1e-3));
+    fresh.build(live);
+    const double links = double(solver.stats().activeLinks) / double(fresh.stats().activeLinks);
+    EXPECT_NEAR(links, 1, 0.03) << "frame " << frame;
+    EXPECT_NEAR(balance(solver), balance(fresh), 0.002) << "frame " << frame;
+    EXPECT_LT(relativeL2(solver, fresh), 0.01) << "frame " << frame;
+    // It touched a part of the pairs, not all.
+    EXPECT_LT(solver.lastUpdate().met, solver.stats().activeLinks / 2) << "frame " << frame;
+  }
+}
+
+TEST(GalerkinUpdate, IsTheSameForAnyNumberOfThreads) {
+  const Scene scene = loadBundled("chair-room/chair-room.json");
+  DynamicScene one(scene, 0), two(scene, 0);
+  GalerkinRadiosity a(optionsAt(3e-3, 1)), b(optionsAt(3e-3, 2));
+  a.build(one);
+  b.build(two);
+  for (int frame = 1; frame < scene.frames; ++frame) {
+    const SceneChange ca = one.changeToFrame(frame), cb = two.changeToFrame(frame);
+    one.apply(ca);
+    two.apply(cb);
+    a.update(one, ca);
+    b.update(two, cb);
+  }
+  ASSERT_EQ(a.links().size(), b.links().size());
+  for (size_t i = 0; i < a.links().size(); ++i) {
+    ASSERT_EQ(a.links()[i].state, b.links()[i].state) << i;
+    ASSERT_EQ(a.links()[i].k, b.links()[i].k) << i;
+  }
+  ASSERT_EQ(a.elements().size(), b.elements().size());
+  for (size_t i = 0; i < a.elements().size(); ++i)
+    ASSERT_EQ(a.elements()[i].node.radiosity[0].r, b.elements()[i].node.radiosity[0].r) << i;
+}
+
+TEST(GalerkinUpdate, AStepThatMovesNothingKeepsTheSolution) {
+  const Scene scene = loadBundled("cornell-box/cornell-box.json");
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(optionsAt(3e-3));
+  solver.build(live);
+  const auto before = solver.links().size();
+  const Rgb absorbed = solver.absorbedPower();
+  const SceneChange nothing = live.changeToFrame(0);
+  ASSERT_TRUE(nothing.moves.empty());
+  live.apply(nothing);
+  solver.update(live, nothing);
+  EXPECT_EQ(solver.links().size(), before);
+  EXPECT_EQ(solver.lastUpdate().met, 0);
+  EXPECT_EQ(solver.absorbedPower().r, absorbed.r);
+}
+
+}  // namespace
+}  // namespace penumbra
