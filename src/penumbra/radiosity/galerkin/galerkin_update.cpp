@@ -178,6 +178,23 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   }
   lastUpdate_.reposeSeconds = stage.lap();
 
+  // Do two candidate lists (ascending: filtered from the root's) differ in a polygon that did
+  // not move?
+  const auto staticPartDiffers = [&](const std::vector<PolygonId>& a,
+                                     const std::vector<PolygonId>& b) {
+    size_t i = 0, j = 0;
+    while (i < a.size() || j < b.size()) {
+      if (j == b.size() || (i < a.size() && a[i] < b[j])) {
+        if (!movedPolygon[a[i++]]) return true;
+      } else if (i == a.size() || b[j] < a[i]) {
+        if (!movedPolygon[b[j++]]) return true;
+      } else {
+        ++i, ++j;
+      }
+    }
+    return false;
+  };
+
   // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then
   // decided in order on one thread (so the result does not depend on the threads).
   const auto endChanged = [&](NodeRef n) {
@@ -268,8 +285,9 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       GLink& link = links_[i];
       storeEstimate(link, e);
       if (end && link.state == GLink::kPassive && link.splitReceiver == (*end == r)) {
-        // Still split the same way: walk on.
-        const bool changed = !link.candidates || *link.candidates != *out.own;
+        // Still split the same way: walk on. Its children's candidates can change beyond the
+        // moved polygons (which their own shafts filter) only if its own gained or lost another.
+        const bool changed = !link.candidates || staticPartDiffers(*link.candidates, *out.own);
         link.candidates = out.own;
         visitChildren(changed);
       } else if (end) {  // split anew: a subtree for refinement below
