@@ -209,7 +209,10 @@ class GalerkinRadiosity {
     int parent = -1;             // the pair it came from (-1: the root's pair with itself)
     int firstChild = -1;         // kPassive, kSelf: its children, contiguous
     int childCount = 0;
-    Candidates candidates;  // kPassive, kSelf: what its children's candidates are filtered from
+    // The occluder candidates its estimate used (kSelf: its parent's), which its children's
+    // are filtered from; a move edits them (Drettakis & Sillion's shafts, here as their
+    // contents).
+    Candidates candidates;
     bool active() const { return state == kActive; }
   };
   const std::vector<GElement>& elements() const { return elements_; }

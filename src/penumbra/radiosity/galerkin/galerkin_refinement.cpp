@@ -206,7 +206,7 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
           queueChildren(r, s, *end, out.own, pair, next);
           continue;
         }
-      appendPair(task, GLink::kActive, &e);
+      links_[appendPair(task, GLink::kActive, &e)].candidates = out.own;
     }
     wave = std::move(next);
   }
@@ -223,10 +223,9 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
       continue;
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
     if (!end) continue;
-    // Its children filter what its own estimate used: the parent's candidates in its shaft.
+    // Its children filter what its own estimate used.
     const NodeRef r = link.receiver, s = link.source;
-    auto own = std::make_shared<const std::vector<PolygonId>>(
-        shaftCandidates(r, s, *candidatesOf(link.parent)));
+    const Candidates own = link.candidates;
     GLink& split = links_[i];
     split.state = GLink::kPassive;
     split.splitReceiver = *end == r;

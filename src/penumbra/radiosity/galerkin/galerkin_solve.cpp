@@ -65,41 +65,49 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
 }
 
 void GalerkinRadiosity::solve(double convergence) {
-  // The links that carry light, copied together once: the pairs also hold the refinement's
-  // history, and the iterations run through these many times.
+  // The links that carry light, copied together once (the pairs also hold the refinement's
+  // history), and what they read and write each iteration in dense arrays beside them: the
+  // elements and clusters hold far more, and the iterations run through the links many times.
   struct SolveLink {
     NodeRef receiver, source;
     std::array<double, 9> k;
     Vec3 direction;
   };
   std::vector<SolveLink> active;
+  active.reserve(size_t(linkCount_));
   for (const GLink& link : links_)
     if (link.active()) active.push_back({link.receiver, link.source, link.k, link.direction});
+  std::vector<LinearRgb> reflected(elements_.size()), gathered(elements_.size());
+  std::vector<AxisLobes> clusterReflected(clusters_.size()), clusterGathered(clusters_.size());
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     // What arrives from emission does not change between iterations: gathered in the first.
     const bool gatherDirect = iteration == 0;
-    for (GElement& e : elements_) {
-      e.node.gatheredIndirect = {};
-      if (gatherDirect) e.node.gatheredDirect = {};
+    for (size_t e = 0; e < elements_.size(); ++e) {
+      const Node& node = elements_[e].node;
+      reflected[e] = node.radiosity;
+      reflected[e][0] = node.radiosity[0] - node.emission;
+      gathered[e] = {};
     }
-    for (GCluster& c : clusters_) {
-      c.node.gatheredIndirect = {};
-      c.gatheredIndirectLobes = {};
-      if (gatherDirect) c.node.gatheredDirect = {}, c.gatheredDirectLobes = {};
+    for (size_t c = 0; c < clusters_.size(); ++c) {
+      clusterReflected[c] = clusters_[c].reflectedLobes;
+      clusterGathered[c] = {};
+    }
+    if (gatherDirect) {
+      for (GElement& e : elements_) e.node.gatheredDirect = {};
+      for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
     }
     for (const SolveLink& link : active) {
       // What the source sends, per unit of the link's coefficients: an element's linear
       // functions; a cluster's lobes towards the receiver.
-      LinearRgb emitted{}, reflected{};
+      LinearRgb emitted{}, sent{};
       if (link.source.isCluster()) {
-        const GCluster& source = clusters_[link.source.index];
-        if (gatherDirect) emitted[0] = exitanceToward(source.emittedLobes, link.direction * -1.0);
-        reflected[0] = exitanceToward(source.reflectedLobes, link.direction * -1.0);
+        if (gatherDirect)
+          emitted[0] =
+              exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0);
+        sent[0] = exitanceToward(clusterReflected[link.source.index], link.direction * -1.0);
       } else {
-        const Node& source = elements_[link.source.index].node;
-        emitted[0] = source.emission;
-        reflected = source.radiosity;
-        reflected[0] = reflected[0] - source.emission;
+        if (gatherDirect) emitted[0] = elements_[link.source.index].node.emission;
+        sent = reflected[link.source.index];
       }
       const int rows = link.receiver.isCluster() ? 1 : 3;
       const int columns = link.source.isCluster() ? 1 : 3;
@@ -108,29 +116,35 @@ void GalerkinRadiosity::solve(double convergence) {
         for (int alpha = 0; alpha < columns; ++alpha) {
           const double k = link.k[beta * 3 + alpha];
           if (gatherDirect) direct[beta] += emitted[alpha] * k;
-          indirect[beta] += reflected[alpha] * k;
+          indirect[beta] += sent[alpha] * k;
         }
       if (link.receiver.isCluster()) {
-        GCluster& receiver = clusters_[link.receiver.index];
-        if (gatherDirect) addArriving(receiver.gatheredDirectLobes, direct[0], link.direction);
-        addArriving(receiver.gatheredIndirectLobes, indirect[0], link.direction);
+        if (gatherDirect)
+          addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0],
+                      link.direction);
+        addArriving(clusterGathered[link.receiver.index], indirect[0], link.direction);
       } else {
-        Node& receiver = elements_[link.receiver.index].node;
-        for (int beta = 0; beta < 3; ++beta) {
-          if (gatherDirect) receiver.gatheredDirect[beta] += direct[beta];
-          receiver.gatheredIndirect[beta] += indirect[beta];
+        LinearRgb& to = gathered[link.receiver.index];
+        for (int beta = 0; beta < 3; ++beta) to[beta] += indirect[beta];
+        if (gatherDirect) {
+          Node& receiver = elements_[link.receiver.index].node;
+          for (int beta = 0; beta < 3; ++beta) receiver.gatheredDirect[beta] += direct[beta];
         }
       }
     }
+    for (size_t e = 0; e < elements_.size(); ++e) elements_[e].node.gatheredIndirect = gathered[e];
+    for (size_t c = 0; c < clusters_.size(); ++c)
+      clusters_[c].gatheredIndirectLobes = clusterGathered[c];
     const double change = pushPull({NodeRef::kCluster, 0}, {}, {}, {}, {});
     ++stats_.iterations;
     // Against the largest reflected radiosity, not B: a lamp's emission can be a hundred times
     // what the walls reflect, and measured against it the indirect light stopped 1% short.
-    double reflected = 0;
+    double largestReflected = 0;
     for (const GElement& e : elements_)
       if (e.isLeaf())
-        reflected = std::max(reflected, (e.node.radiosity[0] - e.node.emission).maxComponent());
-    if (change <= convergence * std::max(reflected, 1e-300)) break;
+        largestReflected =
+            std::max(largestReflected, (e.node.radiosity[0] - e.node.emission).maxComponent());
+    if (change <= convergence * std::max(largestReflected, 1e-300)) break;
   }
 }
 

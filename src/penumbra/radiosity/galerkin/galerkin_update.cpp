@@ -195,6 +195,33 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
     return false;
   };
 
+  // A kept pair's candidates at the new pose: its old ones without the moved polygons, plus the
+  // moved polygons of its parent's (new) candidates that its shaft admits, in ascending order
+  // as a fresh filtering of the parent's gives them (a moved object's polygons are contiguous).
+  std::vector<std::pair<PolygonId, PolygonId>> movedRanges;
+  for (const ObjectMove& move : change.moves)
+    movedRanges.push_back(
+        {scene_.objectFirstPolygon[move.object], scene_.objectFirstPolygon[move.object + 1]});
+  const auto withMovedPolygons = [&](NodeRef r, NodeRef s, const std::vector<PolygonId>& old,
+                                     const std::vector<PolygonId>& inherited) {
+    const Shaft shaft(bounds(r), bounds(s));
+    std::vector<PolygonId> entering;
+    for (const auto& [begin, end] : movedRanges) {
+      auto from = std::lower_bound(inherited.begin(), inherited.end(), begin);
+      const auto to = std::lower_bound(from, inherited.end(), end);
+      for (; from != to; ++from)
+        if (shaft.mayIntersect(scene_.polygons[*from].bounds)) entering.push_back(*from);
+    }
+    std::sort(entering.begin(), entering.end());
+    std::vector<PolygonId> kept;
+    kept.reserve(old.size() + entering.size());
+    for (PolygonId id : old)
+      if (!movedPolygon[id]) kept.push_back(id);
+    std::vector<PolygonId> merged(kept.size() + entering.size());
+    std::merge(kept.begin(), kept.end(), entering.begin(), entering.end(), merged.begin());
+    return merged;
+  };
+
   // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then
   // decided in order on one thread (so the result does not depend on the threads).
   const auto endChanged = [&](NodeRef n) {
@@ -240,14 +267,17 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       Outcome& out = outcomes[m];
       out.exchanges = canExchange(link.receiver, link.source);
       if (!out.exchanges || link.receiver == link.source) return;
-      out.own = std::make_shared<const std::vector<PolygonId>>(
-          shaftCandidates(link.receiver, link.source, *candidatesOf(link.parent)));
       // With both ends and the inherited candidates as they were, the stored estimate is a
-      // fresh one of the last pose: the point pairs whose segments miss the moved boxes keep
-      // their visibility.
+      // fresh one of the last pose: its candidates change only by moved polygons, and the point
+      // pairs whose segments miss the moved boxes keep their visibility.
       const bool kept =
           !met[m].inheritedChanged && !endChanged(link.receiver) && !endChanged(link.source);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
+      const std::vector<PolygonId>& inherited = *candidatesOf(link.parent);
+      out.own = std::make_shared<const std::vector<PolygonId>>(
+          kept && estimated && link.candidates
+              ? withMovedPolygons(link.receiver, link.source, *link.candidates, inherited)
+              : shaftCandidates(link.receiver, link.source, inherited));
       const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &movedBoxes};
       out.estimate = estimate(link.receiver, link.source, *out.own, out.counters,
                               kept && estimated ? &reuse : nullptr);
@@ -269,6 +299,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       if (!out.exchanges) {
         if (links_[i].state == GLink::kPassive) lastUpdate_.dropped += dropChildren(i);
         setState(links_[i], GLink::kNone);
+        links_[i].candidates.reset();
         continue;
       }
       if (r == s) {  // a cluster with itself: its children's pairs are fixed, its candidates
@@ -303,7 +334,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
           ++lastUpdate_.cleanedUp;
         }
         setState(links_[i], GLink::kActive);
-        links_[i].candidates.reset();
+        links_[i].candidates = out.own;
       }
     }
     wave = std::move(next);

@@ -106,11 +106,8 @@ std::string GalerkinRadiosity::verifyLinks() const {
                    << own->size() << " candidates)";
         return difference.str();
       }
-      if (link.state == GLink::kPassive) {
-        if (!link.candidates || *link.candidates != *own)
-          return pair + ": a split pair with stale candidates";
-        candidates[i] = own;
-      }
+      if (!link.candidates || *link.candidates != *own) return pair + ": stale candidates";
+      candidates[i] = own;
     }
     for (int c = link.firstChild; c < link.firstChild + link.childCount; ++c) {
       if (links_[c].parent != i) return "pair " + std::to_string(c) + ": a wrong parent";
