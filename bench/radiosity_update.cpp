@@ -29,7 +29,7 @@ double median(std::vector<double> v) {
 }
 
 struct StepFigures {
-  std::vector<double> update, repose, traverse, refine, solve, full;
+  std::vector<double> update, repose, traverse, walk, refine, solve, full;
   long long met = 0, endMoved = 0, reestimated = 0, rays = 0, reused = 0, links = 0;
 };
 
@@ -71,6 +71,7 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
     s.update.push_back(seconds);
     s.repose.push_back(u.reposeSeconds);
     s.traverse.push_back(u.traverseSeconds);
+    s.walk.push_back(u.walkSeconds);
     s.refine.push_back(u.refineSeconds);
     s.solve.push_back(u.solveSeconds);
     s.met = u.met;
@@ -91,26 +92,27 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
     fresh.build(live);
     s.full.push_back(fresh.stats().totalSeconds);
   }
-  std::printf("  %-7s %9s %9s %9s %9s %9s %9s %7s %7s %7s %7s %8s %7s\n", "step", "update",
-              "repose", "traverse", "refine", "solve", "full", "ratio", "met", "ends", "rays",
-              "reused", "links");
-  std::vector<double> updates, fulls, traverses;
+  std::printf("  %-7s %9s %9s %9s %9s %9s %9s %9s %7s %7s %7s %7s %8s %7s\n", "step", "update",
+              "repose", "traverse", "(walk)", "refine", "solve", "full", "ratio", "met", "ends",
+              "rays", "reused", "links");
+  std::vector<double> updates, fulls, traverses, walks;
   for (const auto& [key, s] : steps) {
     const double update = median(s.update), full = median(s.full);
     updates.push_back(update);
     fulls.push_back(full);
     traverses.push_back(median(s.traverse));
+    walks.push_back(median(s.walk));
     std::printf(
-        "  %2d->%-3d %8.1fms %8.2fms %8.1fms %8.1fms %8.1fms %8.0fms %6.1fx %7lld %7lld "
+        "  %2d->%-3d %8.1fms %8.2fms %8.1fms %8.2fms %8.1fms %8.1fms %8.0fms %6.1fx %7lld %7lld "
         "%7lld %8lld %7lld\n",
         key.first, key.second, 1e3 * update, 1e3 * median(s.repose), 1e3 * median(s.traverse),
-        1e3 * median(s.refine), 1e3 * median(s.solve), 1e3 * full, full / update, s.met, s.endMoved,
-        s.rays, s.reused, s.links);
+        1e3 * median(s.walk), 1e3 * median(s.refine), 1e3 * median(s.solve), 1e3 * full,
+        full / update, s.met, s.endMoved, s.rays, s.reused, s.links);
   }
   std::printf(
-      "  median over steps: update %.1f ms (traversal %.1f ms), full %.0f ms: %.1fx; "
-      "verification %s\n",
-      1e3 * median(updates), 1e3 * median(traverses), 1e3 * median(fulls),
+      "  median over steps: update %.1f ms (traversal %.1f ms, of it the walk %.2f ms), full "
+      "%.0f ms: %.1fx; verification %s\n",
+      1e3 * median(updates), 1e3 * median(traverses), 1e3 * median(walks), 1e3 * median(fulls),
       median(fulls) / median(updates), failures ? "FAILED" : "identical at every step");
   return failures;
 }

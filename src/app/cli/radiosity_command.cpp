@@ -89,6 +89,7 @@ nlohmann::json updateJson(const GalerkinUpdateStats& u) {
                       {"stage_seconds",
                        {{"repose", u.reposeSeconds},
                         {"traverse", u.traverseSeconds},
+                        {"walk", u.walkSeconds},
                         {"refine", u.refineSeconds},
                         {"solve", u.solveSeconds}}}};
   if (u.rebuilt) j["rebuild_reason"] = u.rebuildReason;

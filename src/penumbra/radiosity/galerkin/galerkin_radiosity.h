@@ -106,6 +106,7 @@ struct GalerkinUpdateStats {
   long long laterSplits = 0;       // pairs added by the pass on the last solve's radiosities
   double reposeSeconds = 0;        // elements, contacts, cluster boxes, emission lobes
   double traverseSeconds = 0;      // the walk and the re-estimates
+  double walkSeconds = 0;          // of it, deciding which pairs are met (shaft tests)
   double refineSeconds = 0;        // new subtrees, and the passes after the first solve
   double solveSeconds = 0;
   double totalSeconds = 0;
@@ -285,8 +286,10 @@ class GalerkinRadiosity {
   // Adds a child's exitance on the lobes: its emission, or (`emitted` false) its reflected
   // radiosity.
   void addLobes(AxisLobes& lobes, NodeRef child, bool emitted) const;
-  // Jacobi iterations until the largest change of B < convergence x the largest reflected B.
-  void solve(double convergence);
+  // Jacobi iterations until the largest change of B < convergence x the largest reflected B;
+  // `fromPrevious`: starting from a solution near this one (an update), carrying only what
+  // changed after the first iteration.
+  void solve(double convergence, bool fromPrevious = false);
   // Pushes what `n` gathered (plus `direct`, `indirect` from element ancestors, in n's basis,
   // and the lobes of cluster ancestors) down to the leaves, sets B there and pulls it back up;
   // returns the largest change of a leaf's B.

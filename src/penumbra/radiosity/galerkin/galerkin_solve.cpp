@@ -64,7 +64,7 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
   for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * shares[f]);
 }
 
-void GalerkinRadiosity::solve(double convergence) {
+void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
   // The links that carry light, copied together once (the pairs also hold the refinement's
   // history), and what they read and write each iteration in dense arrays beside them: the
   // elements and clusters hold far more, and the iterations run through the links many times.
@@ -77,69 +77,127 @@ void GalerkinRadiosity::solve(double convergence) {
   active.reserve(size_t(linkCount_));
   for (const GLink& link : links_)
     if (link.active()) active.push_back({link.receiver, link.source, link.k, link.direction});
-  std::vector<LinearRgb> reflected(elements_.size()), gathered(elements_.size());
-  std::vector<AxisLobes> clusterReflected(clusters_.size()), clusterGathered(clusters_.size());
-  for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
-    // What arrives from emission does not change between iterations: gathered in the first.
-    const bool gatherDirect = iteration == 0;
-    for (size_t e = 0; e < elements_.size(); ++e) {
-      const Node& node = elements_[e].node;
-      reflected[e] = node.radiosity;
-      reflected[e][0] = node.radiosity[0] - node.emission;
+  const size_t elementCount = elements_.size(), clusterCount = clusters_.size();
+  // What each source's links last carried (reflected radiosity: B − M), and the sums they made.
+  std::vector<LinearRgb> sent(elementCount), gathered(elementCount);
+  std::vector<AxisLobes> clusterSent(clusterCount), clusterGathered(clusterCount);
+  const auto reflectedOf = [&](size_t e) {
+    LinearRgb b = elements_[e].node.radiosity;
+    b[0] = b[0] - elements_[e].node.emission;
+    return b;
+  };
+  // Adds what `from` (an element's linear function, or a cluster's lobes) sends over a link.
+  const auto carry = [&](const SolveLink& link, const LinearRgb& from, const AxisLobes& lobes) {
+    LinearRgb source{};
+    if (link.source.isCluster())
+      source[0] = exitanceToward(lobes, link.direction * -1.0);
+    else
+      source = from;
+    const int rows = link.receiver.isCluster() ? 1 : 3;
+    const int columns = link.source.isCluster() ? 1 : 3;
+    LinearRgb arriving{};
+    for (int beta = 0; beta < rows; ++beta)
+      for (int alpha = 0; alpha < columns; ++alpha)
+        arriving[beta] += source[alpha] * link.k[beta * 3 + alpha];
+    if (link.receiver.isCluster()) {
+      addArriving(clusterGathered[link.receiver.index], arriving[0], link.direction);
+    } else {
+      LinearRgb& to = gathered[link.receiver.index];
+      for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
+    }
+  };
+
+  // A full gather: the direct part (emission does not change between iterations) once, and the
+  // reflected part from every link.
+  for (GElement& e : elements_) e.node.gatheredDirect = {};
+  for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
+  for (const SolveLink& link : active) {
+    LinearRgb direct{};
+    const Rgb emitted =
+        link.source.isCluster()
+            ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
+            : elements_[link.source.index].node.emission;
+    const int rows = link.receiver.isCluster() ? 1 : 3;
+    for (int beta = 0; beta < rows; ++beta) direct[beta] = emitted * link.k[beta * 3];
+    if (link.receiver.isCluster()) {
+      addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
+    } else {
+      Node& receiver = elements_[link.receiver.index].node;
+      for (int beta = 0; beta < 3; ++beta) receiver.gatheredDirect[beta] += direct[beta];
+    }
+  }
+  const auto gatherAll = [&] {
+    for (size_t e = 0; e < elementCount; ++e) {
+      sent[e] = reflectedOf(e);
       gathered[e] = {};
     }
-    for (size_t c = 0; c < clusters_.size(); ++c) {
-      clusterReflected[c] = clusters_[c].reflectedLobes;
+    for (size_t c = 0; c < clusterCount; ++c) {
+      clusterSent[c] = clusters_[c].reflectedLobes;
       clusterGathered[c] = {};
     }
-    if (gatherDirect) {
-      for (GElement& e : elements_) e.node.gatheredDirect = {};
-      for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
-    }
-    for (const SolveLink& link : active) {
-      // What the source sends, per unit of the link's coefficients: an element's linear
-      // functions; a cluster's lobes towards the receiver.
-      LinearRgb emitted{}, sent{};
-      if (link.source.isCluster()) {
-        if (gatherDirect)
-          emitted[0] =
-              exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0);
-        sent[0] = exitanceToward(clusterReflected[link.source.index], link.direction * -1.0);
-      } else {
-        if (gatherDirect) emitted[0] = elements_[link.source.index].node.emission;
-        sent = reflected[link.source.index];
-      }
-      const int rows = link.receiver.isCluster() ? 1 : 3;
-      const int columns = link.source.isCluster() ? 1 : 3;
-      LinearRgb direct{}, indirect{};
-      for (int beta = 0; beta < rows; ++beta)
-        for (int alpha = 0; alpha < columns; ++alpha) {
-          const double k = link.k[beta * 3 + alpha];
-          if (gatherDirect) direct[beta] += emitted[alpha] * k;
-          indirect[beta] += sent[alpha] * k;
+    for (const SolveLink& link : active)
+      carry(link, link.source.isCluster() ? LinearRgb{} : sent[link.source.index],
+            link.source.isCluster() ? clusterSent[link.source.index] : AxisLobes{});
+  };
+
+  // From a previous solution most sources hardly change: after one full gather, each iteration
+  // carries only the changes of the sources that changed by more than a fraction of the
+  // convergence threshold (their links found through a by-source index), the rest kept in the
+  // sums; what is left behind is below the accuracy the solve stops at.
+  std::vector<int> firstBySource, bySource;
+  if (fromPrevious) {
+    firstBySource.assign(elementCount + clusterCount + 1, 0);
+    const auto slot = [&](NodeRef n) { return n.isCluster() ? elementCount + n.index : n.index; };
+    for (const SolveLink& link : active) ++firstBySource[slot(link.source) + 1];
+    for (size_t i = 1; i < firstBySource.size(); ++i) firstBySource[i] += firstBySource[i - 1];
+    bySource.resize(active.size());
+    std::vector<int> next(firstBySource.begin(), firstBySource.end() - 1);
+    for (size_t l = 0; l < active.size(); ++l) bySource[next[slot(active[l].source)]++] = int(l);
+  }
+  double largestReflected = 0;
+  for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
+    if (iteration == 0 || !fromPrevious) {
+      gatherAll();
+    } else {
+      const double threshold = 0.5 * convergence * largestReflected;
+      for (size_t e = 0; e < elementCount; ++e) {
+        const LinearRgb now = reflectedOf(e);
+        LinearRgb delta;
+        double largest = 0;
+        for (int k = 0; k < 3; ++k) {
+          delta[k] = now[k] - sent[e][k];
+          largest =
+              std::max({largest, std::abs(delta[k].r), std::abs(delta[k].g), std::abs(delta[k].b)});
         }
-      if (link.receiver.isCluster()) {
-        if (gatherDirect)
-          addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0],
-                      link.direction);
-        addArriving(clusterGathered[link.receiver.index], indirect[0], link.direction);
-      } else {
-        LinearRgb& to = gathered[link.receiver.index];
-        for (int beta = 0; beta < 3; ++beta) to[beta] += indirect[beta];
-        if (gatherDirect) {
-          Node& receiver = elements_[link.receiver.index].node;
-          for (int beta = 0; beta < 3; ++beta) receiver.gatheredDirect[beta] += direct[beta];
+        if (largest <= threshold) continue;
+        sent[e] = now;
+        for (int l = firstBySource[e]; l < firstBySource[e + 1]; ++l)
+          carry(active[bySource[l]], delta, {});
+      }
+      for (size_t c = 0; c < clusterCount; ++c) {
+        AxisLobes delta;
+        double largest = 0;
+        for (int f = 0; f < 6; ++f) {
+          delta[f] = clusters_[c].reflectedLobes[f] - clusterSent[c][f];
+          largest =
+              std::max(largest, std::abs(delta[f].r) + std::abs(delta[f].g) + std::abs(delta[f].b));
         }
+        // Lobes carry flux (B A): compared per unit of the cluster's area.
+        if (largest <= threshold * clusters_[c].structure.area) continue;
+        clusterSent[c] = clusters_[c].reflectedLobes;
+        const size_t at = elementCount + c;
+        for (int l = firstBySource[at]; l < firstBySource[at + 1]; ++l)
+          carry(active[bySource[l]], {}, delta);
       }
     }
-    for (size_t e = 0; e < elements_.size(); ++e) elements_[e].node.gatheredIndirect = gathered[e];
-    for (size_t c = 0; c < clusters_.size(); ++c)
+    for (size_t e = 0; e < elementCount; ++e) elements_[e].node.gatheredIndirect = gathered[e];
+    for (size_t c = 0; c < clusterCount; ++c)
       clusters_[c].gatheredIndirectLobes = clusterGathered[c];
     const double change = pushPull({NodeRef::kCluster, 0}, {}, {}, {}, {});
     ++stats_.iterations;
     // Against the largest reflected radiosity, not B: a lamp's emission can be a hundred times
     // what the walls reflect, and measured against it the indirect light stopped 1% short.
-    double largestReflected = 0;
+    largestReflected = 0;
     for (const GElement& e : elements_)
       if (e.isLeaf())
         largestReflected =

@@ -249,7 +249,9 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
     bool inheritedChanged = false;
   };
   std::vector<Visit> wave{{0, false}};
+  Stopwatch walk;
   while (!wave.empty()) {
+    walk.lap();
     std::vector<Visit> met;
     for (const Visit& visit : wave) {
       const GLink& link = links_[visit.pair];
@@ -261,6 +263,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       ++lastUpdate_.shaftTests;
       if (shaftMeets(bounds(link.receiver), bounds(link.source), movedBoxes)) met.push_back(visit);
     }
+    lastUpdate_.walkSeconds += walk.lap();
     std::vector<Outcome> outcomes(met.size());
     parallelFor((long long)met.size(), options_.threads, [&](long long m) {
       const GLink& link = links_[met[m].pair];
@@ -351,7 +354,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   if (options_.refinementPasses > 1) refineActiveLinks(counters);
   lastUpdate_.laterSplits = (long long)(links_.size() - count);
   lastUpdate_.refineSeconds = stage.lap();
-  solve(options_.convergence);
+  solve(options_.convergence, true);
   lastUpdate_.solveSeconds = stage.lap();
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
