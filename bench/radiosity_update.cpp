@@ -3,13 +3,15 @@
 // with the update's stages, what it touched, and verifyLinks() after every step (outside the
 // timings). The keyframes are walked forward and back `--repeat` times; times are medians.
 //
-// Usage: radiosity_update [--repeat N] [--tolerance T] [--updates-only] [SCENE...]  (default: the
+// Usage: radiosity_update [--repeat N] [--tolerance T] [--updates-only] [--random-moves N]
+//                         [SCENE...]  (default: the
 // furnished room, the chair room, the Cornell box)
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -117,17 +119,74 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
   return failures;
 }
 
+// A seeded random walk of caller moves (rotations and translations of every keyframed object,
+// each kept inside the scene's extent), verifyLinks() after every one; returns the failures.
+int randomMoves(const std::string& path, int moves, double tolerance) {
+  const Scene scene = loadScene(path);
+  GalerkinOptions options;
+  options.tolerance = tolerance;
+  options.threads = 1;
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(options);
+  solver.build(live);
+  std::vector<int> movers;
+  for (int o = 0; o < int(scene.objects.size()); ++o)
+    if (scene.objects[o].isDynamic()) movers.push_back(o);
+  if (movers.empty()) return 0;
+  std::mt19937_64 random(17);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const Box3 room = live.extent();
+  int failures = 0, rebuilt = 0;
+  std::vector<double> seconds;
+  for (int step = 0; step < moves; ++step) {
+    const int object = movers[step % movers.size()];
+    Box3 local;
+    for (const Polygon3& polygon : scene.objects[object].polygons)
+      for (const Vec3& v : polygon) local.extend(v);
+    SceneChange change;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const Vec3 d = room.diagonal();
+      const Vec3 axis =
+          normalize(Vec3{unit(random), unit(random), unit(random)} + Vec3{0, 1e-3, 0});
+      const Transform pose =
+          Transform::fromTrs(
+              room.center() +
+                  Vec3{unit(random) * d.x, unit(random) * d.y, unit(random) * d.z} * 0.3,
+              Quaternion::fromAxisAngle(axis, 3.2 * unit(random)), {1, 1, 1}) *
+          Transform::fromTrs(local.center() * -1.0, Quaternion::identity(), {1, 1, 1});
+      change = live.changeMoving(object, pose);
+      if (!change.extentGrows) break;
+    }
+    live.apply(change);
+    const Stopwatch watch;
+    solver.update(live, change);
+    seconds.push_back(watch.seconds());
+    rebuilt += solver.lastUpdate().rebuilt ? 1 : 0;
+    const std::string difference = solver.verifyLinks();
+    if (!difference.empty() && failures++ < 5)
+      std::printf("  move %d: VERIFICATION FAILED: %s\n", step, difference.c_str());
+  }
+  std::printf(
+      "%s: %d random moves, median update %.1f ms, %d rebuilt, %d differ from fresh "
+      "estimates\n",
+      path.c_str(), moves, 1e3 * median(seconds), rebuilt, failures);
+  return failures;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int repeat = 3;
   bool updatesOnly = false;  // no fresh builds and no verification (for profiling the update)
+  int moves = 0;             // --random-moves N: the random walk instead of the keyframes
   double tolerance = GalerkinOptions{}.tolerance;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--repeat" && i + 1 < argc)
       repeat = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--random-moves" && i + 1 < argc)
+      moves = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--updates-only")
       updatesOnly = true;
     else if (arg == "--tolerance" && i + 1 < argc)
@@ -141,6 +200,7 @@ int main(int argc, char** argv) {
               PENUMBRA_SOURCE_DIR "/scenes/cornell-box/cornell-box.json"};
   int failures = 0;
   for (const std::string& scene : scenes)
-    failures += benchScene(scene, repeat, tolerance, updatesOnly);
+    failures += moves > 0 ? randomMoves(scene, moves, tolerance)
+                          : benchScene(scene, repeat, tolerance, updatesOnly);
   return failures ? 1 : 0;
 }
