@@ -255,7 +255,7 @@ class GalerkinRadiosity {
   static void storeEstimate(GLink& link, const Estimate& e);
   // The candidates a pair's children filter: its own stored ones.
   const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
-  // Marks a pair's descendants dropped; returns how many.
+  // Marks a pair's descendants dropped (their candidates released); returns how many.
   long long dropChildren(int pair);
   // The line-space update's steps (galerkin_update.cpp).
   bool reposeMovedObjects(const SceneChange& change, std::vector<char>& elementChanged);

@@ -100,12 +100,12 @@ long long GalerkinRadiosity::dropChildren(int pair) {
   const int first = link.firstChild, count = link.childCount;
   link.firstChild = -1;
   link.childCount = 0;
-  link.candidates.reset();
   for (int c = first; c < first + count; ++c) {
     dropped += 1 + dropChildren(c);
     GLink& child = links_[c];
     if (child.state == GLink::kActive || child.state == GLink::kPassive) --linkCount_;
     child.state = GLink::kDropped;
+    child.candidates.reset();
   }
   return dropped;
 }

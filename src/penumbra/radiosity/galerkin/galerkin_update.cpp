@@ -350,12 +350,34 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   const size_t before = links_.size();
   if (!fresh.empty()) refine(std::move(fresh), counters);
   lastUpdate_.created = (long long)(links_.size() - before);
+  // A moved light changes the radiosities everywhere, not only near the move: there the solve
+  // comes first, then split pairs the new radiosities no longer need are cleaned up and the pass
+  // on the new radiosities runs, as a build's does, and a second solve (where everything moves
+  // in the Cornell box, the irradiance 0.25-0.47% from a fresh build's instead of 0.46-0.67%).
+  const bool lightMoved = change.movesLight();
   const size_t count = links_.size();
-  if (options_.refinementPasses > 1) refineActiveLinks(counters);
+  if (options_.refinementPasses > 1 && !lightMoved) refineActiveLinks(counters);
   lastUpdate_.laterSplits = (long long)(links_.size() - count);
   lastUpdate_.refineSeconds = stage.lap();
   solve(options_.convergence, true);
   lastUpdate_.solveSeconds = stage.lap();
+  if (options_.refinementPasses > 1 && lightMoved) {
+    for (size_t i = 0; i < links_.size(); ++i) {
+      GLink& link = links_[i];
+      if (link.state != GLink::kPassive || oracle(link.receiver, link.source, link.meanTransfer,
+                                                  link.spread, link.hiddenTransfer) > threshold_)
+        continue;
+      lastUpdate_.dropped += dropChildren(int(i));
+      setState(links_[i], GLink::kActive);
+      ++lastUpdate_.cleanedUp;
+    }
+    const size_t again = links_.size();
+    refineActiveLinks(counters);
+    lastUpdate_.laterSplits += (long long)(links_.size() - again);
+    lastUpdate_.refineSeconds += stage.lap();
+    solve(options_.convergence, true);
+    lastUpdate_.solveSeconds += stage.lap();
+  }
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
