@@ -153,8 +153,10 @@ double balance(const GalerkinRadiosity& s) {
 // issue 17 bounds how far: links within 3%, the energy balance within 0.002, and here the total
 // irradiance within 1% (relative L2) — a third of the solver's own median error at this
 // tolerance against the path tracer (GalerkinRadiosity tests).
-TEST(GalerkinUpdate, StaysCloseToAFreshBuildAtEveryFrame) {
-  const Scene scene = loadBundled("chair-room/chair-room.json");
+// `local`: one object moves in a room, so most pairs are left as they were (where the light and
+// two blocks move in a small box, nearly every shaft meets a moved box).
+void expectCloseToAFreshBuildAtEveryFrame(const std::string& scenePath, bool local) {
+  const Scene scene = loadBundled(scenePath);
   DynamicScene live(scene, 0);
   GalerkinRadiosity solver(optionsAt(1e-3));
   solver.build(live);
@@ -168,9 +170,16 @@ TEST(GalerkinUpdate, StaysCloseToAFreshBuildAtEveryFrame) {
     EXPECT_NEAR(links, 1, 0.03) << "frame " << frame;
     EXPECT_NEAR(balance(solver), balance(fresh), 0.002) << "frame " << frame;
     EXPECT_LT(relativeL2(solver, fresh), 0.01) << "frame " << frame;
-    // It touched a part of the pairs, not all.
-    EXPECT_LT(solver.lastUpdate().met, solver.stats().activeLinks / 2) << "frame " << frame;
+    if (local) EXPECT_LT(solver.lastUpdate().met, solver.stats().activeLinks / 2) << frame;
   }
+}
+
+TEST(GalerkinUpdate, StaysCloseToAFreshBuildAtEveryFrame) {
+  expectCloseToAFreshBuildAtEveryFrame("chair-room/chair-room.json", true);
+}
+
+TEST(GalerkinUpdate, StaysCloseToAFreshBuildWhenTheLightMoves) {
+  expectCloseToAFreshBuildAtEveryFrame("cornell-box/cornell-everything-moves.json", false);
 }
 
 TEST(GalerkinUpdate, IsTheSameForAnyNumberOfThreads) {
