@@ -170,7 +170,9 @@ void expectCloseToAFreshBuildAtEveryFrame(const std::string& scenePath, bool loc
     EXPECT_NEAR(links, 1, 0.03) << "frame " << frame;
     EXPECT_NEAR(balance(solver), balance(fresh), 0.002) << "frame " << frame;
     EXPECT_LT(relativeL2(solver, fresh), 0.01) << "frame " << frame;
-    if (local) EXPECT_LT(solver.lastUpdate().met, solver.stats().activeLinks / 2) << frame;
+    if (local) {
+      EXPECT_LT(solver.lastUpdate().met, solver.stats().activeLinks / 2) << "frame " << frame;
+    }
   }
 }
 
