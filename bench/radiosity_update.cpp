@@ -137,6 +137,7 @@ int randomMoves(const std::string& path, int moves, double tolerance) {
   std::uniform_real_distribution<double> unit(-1, 1);
   const Box3 room = live.extent();
   int failures = 0, rebuilt = 0;
+  const double builtMiB = double(solver.stats().totalBytes()) / (1 << 20);
   std::vector<double> seconds;
   for (int step = 0; step < moves; ++step) {
     const int object = movers[step % movers.size()];
@@ -168,8 +169,9 @@ int randomMoves(const std::string& path, int moves, double tolerance) {
   }
   std::printf(
       "%s: %d random moves, median update %.1f ms, %d rebuilt, %d differ from fresh "
-      "estimates\n",
-      path.c_str(), moves, 1e3 * median(seconds), rebuilt, failures);
+      "estimates; memory %.1f MiB after the build, %.1f MiB at the end\n",
+      path.c_str(), moves, 1e3 * median(seconds), rebuilt, failures, builtMiB,
+      double(solver.stats().totalBytes()) / (1 << 20));
   return failures;
 }
 

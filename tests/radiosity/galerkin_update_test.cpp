@@ -89,6 +89,7 @@ TEST(GalerkinUpdate, EveryPairIsAFreshEstimateAfterRandomRigidMoves) {
   std::mt19937_64 random(5);
   std::uniform_real_distribution<double> unit(-1, 1);
   const Box3 room = live.extent();
+  int compactions = 0;
   for (int step = 0; step < 16; ++step) {
     const int object = movers[step % 4];
     // A random rigid pose that stays inside the scene's extent (drawn again until it does).
@@ -117,10 +118,12 @@ TEST(GalerkinUpdate, EveryPairIsAFreshEstimateAfterRandomRigidMoves) {
     const SceneChange change = live.changeMoving(object, pose);
     live.apply(change);
     solver.update(live, change);
+    compactions += solver.lastUpdate().compacted ? 1 : 0;
     ASSERT_FALSE(solver.lastUpdate().rebuilt)
         << "step " << step << ": " << solver.lastUpdate().rebuildReason;
     EXPECT_EQ(solver.verifyLinks(), "") << "step " << step << ", object " << object;
   }
+  EXPECT_GT(compactions, 0);  // the dropped pairs' storage was reclaimed, and checked after
   const SceneChange far = live.changeMoving(
       box, Transform::fromTrs(room.max + room.diagonal() * 2.0, Quaternion::identity(), {1, 1, 1}));
   live.apply(far);

@@ -103,6 +103,7 @@ struct GalerkinUpdateStats {
   long long cleanedUp = 0;         // split pairs made links again, their children dropped
   long long created = 0;           // new pairs estimated below new splits
   long long dropped = 0;           // pairs dropped with cleaned-up subtrees
+  bool compacted = false;          // the dropped pairs' storage was reclaimed
   long long laterSplits = 0;       // pairs added by the pass on the last solve's radiosities
   double reposeSeconds = 0;        // elements, contacts, cluster boxes, emission lobes
   double traverseSeconds = 0;      // the walk and the re-estimates
@@ -255,6 +256,8 @@ class GalerkinRadiosity {
   static void storeEstimate(GLink& link, const Estimate& e);
   // The candidates a pair's children filter: its own stored ones.
   const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
+  // Removes the dropped pairs from storage (every index changes).
+  void compactPairs();
   // Marks a pair's descendants dropped (their candidates released); returns how many.
   long long dropChildren(int pair);
   // The line-space update's steps (galerkin_update.cpp).

@@ -155,6 +155,29 @@ void GalerkinRadiosity::shapeChild(const GElement& parent, const std::array<Vec3
   child.area = elementArea(vertices, parent.shape.vertexCount);
 }
 
+void GalerkinRadiosity::compactPairs() {
+  // Breadth first from the root pair, each pair's children placed together: the order keeps
+  // children contiguous and parents before their children, as refinement makes them.
+  std::vector<int> order{0}, newIndex(links_.size(), -1);
+  newIndex[0] = 0;
+  for (size_t at = 0; at < order.size(); ++at) {
+    const GLink& link = links_[order[at]];
+    for (int c = link.firstChild; c < link.firstChild + link.childCount; ++c) {
+      newIndex[c] = int(order.size());
+      order.push_back(c);
+    }
+  }
+  std::vector<GLink> compact;
+  compact.reserve(order.size());
+  for (int old : order) {
+    GLink link = std::move(links_[old]);
+    if (link.parent >= 0) link.parent = newIndex[link.parent];
+    if (link.firstChild >= 0) link.firstChild = newIndex[link.firstChild];
+    compact.push_back(std::move(link));
+  }
+  links_ = std::move(compact);
+}
+
 // Refinement runs in waves, breadth first: each wave's node pairs are estimated in parallel
 // (reading the hierarchy only), then decided in order on one thread, which splits elements,
 // appends links and queues the next wave. So the hierarchy and the links' order are the same for

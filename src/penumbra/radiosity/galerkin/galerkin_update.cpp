@@ -378,6 +378,14 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
     solve(options_.convergence, true);
     lastUpdate_.solveSeconds += stage.lap();
   }
+  // Dropped pairs stay in storage until they are a quarter of it: then it is compacted, so a
+  // long walk of moves does not grow it.
+  long long droppedPairs = 0;
+  for (const GLink& link : links_) droppedPairs += link.state == GLink::kDropped ? 1 : 0;
+  if (droppedPairs * 4 > (long long)links_.size()) {
+    compactPairs();
+    lastUpdate_.compacted = true;
+  }
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
