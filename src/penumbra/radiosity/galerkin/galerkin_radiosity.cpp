@@ -41,6 +41,7 @@ void GalerkinRadiosity::clear() {
   rootOrder_.clear();
   links_.clear();
   linkCount_ = 0;
+  droppedPairs_ = 0;
   stats_ = {};
 }
 
@@ -96,11 +97,17 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
-  countStats();
+  statsCounted_ = false;
   stats_.totalSeconds = elapsedSeconds(start);
 }
 
-void GalerkinRadiosity::countStats() {
+const GalerkinStats& GalerkinRadiosity::stats() const {
+  if (!statsCounted_) countStats();
+  return stats_;
+}
+
+void GalerkinRadiosity::countStats() const {
+  statsCounted_ = true;
   stats_.elements = (long long)elements_.size();
   stats_.clusters = (long long)clusters_.size();
   stats_.leaves = stats_.activeLinks = stats_.passiveLinks = 0;

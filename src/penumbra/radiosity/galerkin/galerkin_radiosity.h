@@ -144,7 +144,9 @@ class GalerkinRadiosity {
   Rgb emittedPower() const;
   Rgb absorbedPower() const;
 
-  const GalerkinStats& stats() const { return stats_; }
+  // The counts and memory are taken when asked for (a walk over every pair: reporting, not part
+  // of a build's or an update's work or time).
+  const GalerkinStats& stats() const;
 
   // What the solver holds per element and per cluster (public for tests).
   struct Node {
@@ -224,7 +226,7 @@ class GalerkinRadiosity {
   struct Estimate;
   struct Counters;
   void clear();
-  void countStats();
+  void countStats() const;
   // Can any light leave s and reach r (their fronts face each other somewhere)?
   bool canExchange(NodeRef r, NodeRef s) const;
   struct VisibilityReuse;
@@ -317,7 +319,9 @@ class GalerkinRadiosity {
   GalerkinUpdateStats lastUpdate_;
   double threshold_ = 0;  // tolerance x emitted power
   double minArea_ = 0;
-  GalerkinStats stats_;
+  mutable GalerkinStats stats_;
+  mutable bool statsCounted_ = false;
+  long long droppedPairs_ = 0;  // dropped pairs still in storage
 };
 
 }  // namespace penumbra

@@ -106,6 +106,7 @@ long long GalerkinRadiosity::dropChildren(int pair) {
     if (child.state == GLink::kActive || child.state == GLink::kPassive) --linkCount_;
     child.state = GLink::kDropped;
     child.candidates.reset();
+    ++droppedPairs_;
   }
   return dropped;
 }
@@ -176,6 +177,7 @@ void GalerkinRadiosity::compactPairs() {
     compact.push_back(std::move(link));
   }
   links_ = std::move(compact);
+  droppedPairs_ = 0;
 }
 
 // Refinement runs in waves, breadth first: each wave's node pairs are estimated in parallel

@@ -380,9 +380,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   }
   // Dropped pairs stay in storage until they are a quarter of it: then it is compacted, so a
   // long walk of moves does not grow it.
-  long long droppedPairs = 0;
-  for (const GLink& link : links_) droppedPairs += link.state == GLink::kDropped ? 1 : 0;
-  if (droppedPairs * 4 > (long long)links_.size()) {
+  if (droppedPairs_ * 4 > (long long)links_.size()) {
     compactPairs();
     lastUpdate_.compacted = true;
   }
@@ -392,7 +390,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   lastUpdate_.reusedVisibility = counters.reusedRays;
   stats_.refineSeconds = lastUpdate_.traverseSeconds + lastUpdate_.refineSeconds;
   stats_.solveSeconds = lastUpdate_.solveSeconds;
-  countStats();
+  statsCounted_ = false;
   stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
 }
 
