@@ -153,11 +153,18 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
       GalerkinRadiosity fresh(galerkinOptions(options.radiosity, common));
       fresh.build(live);
       const double l2 = relativeDifference(solver, fresh);
+      const GalerkinRadiosity::PendingRefinement pending = solver.pendingRefinement(),
+                                                 freshPending = fresh.pendingRefinement();
       entry["fresh"] = {{"seconds", fresh.stats().totalSeconds},
                         {"active_links", fresh.stats().activeLinks},
                         {"elements", fresh.stats().elements},
                         {"absorbed_over_emitted", balance(fresh)},
-                        {"relative_l2_difference", l2}};
+                        {"relative_l2_difference", l2},
+                        {"pending_splits", freshPending.splits},
+                        {"pending_clean_ups", freshPending.cleanUps}};
+      // What one more refinement pass would change, here and in the fresh build.
+      entry["pending_splits"] = pending.splits;
+      entry["pending_clean_ups"] = pending.cleanUps;
       char line[160];
       std::snprintf(line, sizeof line, "; fresh build: %.3f s, %lld links, L2 difference %.4f",
                     fresh.stats().totalSeconds, fresh.stats().activeLinks, l2);

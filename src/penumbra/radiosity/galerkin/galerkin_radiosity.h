@@ -130,6 +130,12 @@ class GalerkinRadiosity {
   // what is stored, bit for bit: empty when all agree, else the first difference in words.
   std::string verifyLinks() const;
   const GalerkinUpdateStats& lastUpdate() const { return lastUpdate_; }
+  // What one more refinement and clean-up pass on the present radiosities would change: links it
+  // would split, and split pairs whose own estimate it would find good enough.
+  struct PendingRefinement {
+    long long splits = 0, cleanUps = 0;
+  };
+  PendingRefinement pendingRefinement() const;
 
   // Direct and indirect irradiance and radiosity at a point on the front of a receiver, from the
   // linear functions of the leaf holding it (negative values of a steep linear function clamped

@@ -117,4 +117,17 @@ std::string GalerkinRadiosity::verifyLinks() const {
   return {};
 }
 
+GalerkinRadiosity::PendingRefinement GalerkinRadiosity::pendingRefinement() const {
+  PendingRefinement pending;
+  for (const GLink& link : links_) {
+    if (link.state != GLink::kActive && link.state != GLink::kPassive) continue;
+    const bool wants = oracle(link.receiver, link.source, link.meanTransfer, link.spread,
+                              link.hiddenTransfer) > threshold_ &&
+                       endToSplit(link.receiver, link.source).has_value();
+    if (link.state == GLink::kActive && wants) ++pending.splits;
+    if (link.state == GLink::kPassive && !wants) ++pending.cleanUps;
+  }
+  return pending;
+}
+
 }  // namespace penumbra
