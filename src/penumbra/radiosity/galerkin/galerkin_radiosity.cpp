@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <tuple>
+#include <unordered_set>
 
 #include "penumbra/base/check.h"
 #include "penumbra/radiosity/face_contacts.h"
@@ -120,11 +121,14 @@ void GalerkinRadiosity::countStats() const {
   stats_.clusterBytes = clusters_.capacity() * sizeof(GCluster);
   for (const GCluster& c : clusters_)
     stats_.clusterBytes += c.structure.children.capacity() * sizeof(NodeRef);
-  // Every pair, and the candidate lists the split ones keep for their children.
+  // Every pair, and the candidate lists, each counted once (pairs share their parent's list
+  // when it is all of theirs).
   stats_.linkBytes = links_.capacity() * sizeof(GLink);
+  std::unordered_set<const void*> counted;
   for (const GLink& l : links_)
-    if (l.candidates && l.state != GLink::kSelf)
-      stats_.linkBytes += l.candidates->capacity() * sizeof(PolygonId);
+    if (l.candidates && counted.insert(l.candidates.get()).second)
+      stats_.linkBytes += l.candidates->capacity() * sizeof(PolygonId) +
+                          sizeof(std::vector<PolygonId>) + 2 * sizeof(void*);  // + its block
 }
 
 void GalerkinRadiosity::buildHierarchy(const Scene& scene, const std::vector<Element>& roots) {

@@ -262,6 +262,9 @@ class GalerkinRadiosity {
   // Appends the pair a task became (its estimate when it exchanges) and links it to its parent.
   int appendPair(const RefineTask& task, GLink::State state, const Estimate* estimate);
   static void storeEstimate(GLink& link, const Estimate& e);
+  // A pair's candidates (a subset of its parent's), stored once: the parent's own list when
+  // they are all of it, one shared empty list when none.
+  static Candidates shared(std::vector<PolygonId> own, const Candidates& inherited);
   // The candidates a pair's children filter: its own stored ones.
   const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
   // Removes the dropped pairs from storage (every index changes).

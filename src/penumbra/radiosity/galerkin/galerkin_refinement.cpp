@@ -59,6 +59,15 @@ void GalerkinRadiosity::queueChildren(NodeRef r, NodeRef s, NodeRef end,
                             : RefineTask{r, child, candidates, parent});
 }
 
+GalerkinRadiosity::Candidates GalerkinRadiosity::shared(std::vector<PolygonId> own,
+                                                        const Candidates& inherited) {
+  // A subset of the same size is the same list; and most deep pairs' lists are empty.
+  static const Candidates kNone = std::make_shared<const std::vector<PolygonId>>();
+  if (own.size() == inherited->size()) return inherited;
+  if (own.empty()) return kNone;
+  return std::make_shared<const std::vector<PolygonId>>(std::move(own));
+}
+
 void GalerkinRadiosity::storeEstimate(GLink& link, const Estimate& e) {
   link.k = e.k;
   link.direction = e.direction;
@@ -198,8 +207,8 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
       Outcome& out = outcomes[i];
       out.exchanges = canExchange(task.receiver, task.source);
       if (!out.exchanges || task.receiver == task.source) return;
-      out.own = std::make_shared<const std::vector<PolygonId>>(
-          shaftCandidates(task.receiver, task.source, *task.candidates));
+      out.own =
+          shared(shaftCandidates(task.receiver, task.source, *task.candidates), task.candidates);
       out.estimate = estimate(task.receiver, task.source, *out.own, out.counters);
     });
     std::vector<RefineTask> next;

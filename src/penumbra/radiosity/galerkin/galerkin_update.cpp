@@ -276,11 +276,12 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       const bool kept =
           !met[m].inheritedChanged && !endChanged(link.receiver) && !endChanged(link.source);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
-      const std::vector<PolygonId>& inherited = *candidatesOf(link.parent);
-      out.own = std::make_shared<const std::vector<PolygonId>>(
-          kept && estimated && link.candidates
-              ? withMovedPolygons(link.receiver, link.source, *link.candidates, inherited)
-              : shaftCandidates(link.receiver, link.source, inherited));
+      const Candidates& inherited = candidatesOf(link.parent);
+      out.own =
+          shared(kept && estimated && link.candidates
+                     ? withMovedPolygons(link.receiver, link.source, *link.candidates, *inherited)
+                     : shaftCandidates(link.receiver, link.source, *inherited),
+                 inherited);
       const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &movedBoxes};
       out.estimate = estimate(link.receiver, link.source, *out.own, out.counters,
                               kept && estimated ? &reuse : nullptr);
