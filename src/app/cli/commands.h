@@ -38,10 +38,7 @@ inline RadiosityOptions withThreads(RadiosityOptions options, const CommonOption
 // the tolerance, the budget and the global --threads.
 inline GalerkinOptions galerkinOptions(const RadiosityOptions& options,
                                        const CommonOptions& common) {
-  GalerkinOptions galerkin;
-  galerkin.tolerance = options.tolerance;
-  galerkin.maxLinks = options.maxLinks;
-  galerkin.maxElements = options.maxElements;
+  GalerkinOptions galerkin = galerkinOptionsFrom(options);
   galerkin.threads = common.threads;
   return galerkin;
 }

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   CLI::App app{"penumbra-view: watch Penumbra's engines light a moving scene"};
   app.add_option("scene", options.scene, "Scene file (.json, .obj, .gltf, .glb)")->required();
   app.add_option("--method", options.method,
-                 "raytrace | radiosity | volumes | combined (default volumes)");
+                 "raytrace | radiosity | volumes | combined | galerkin (default volumes)");
   app.add_option("--frame", options.frame, "First frame shown")->check(CLI::NonNegativeNumber);
   app.add_option("--light-samples", options.lightSamples,
                  "volumes: stratified point lights per area light (1: its centroid)")

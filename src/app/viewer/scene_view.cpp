@@ -41,6 +41,7 @@ std::optional<ViewMethod> parseViewMethod(const std::string& name) {
   if (name == "radiosity") return ViewMethod::kRadiosity;
   if (name == "volumes") return ViewMethod::kVolumes;
   if (name == "combined") return ViewMethod::kCombined;
+  if (name == "galerkin") return ViewMethod::kGalerkin;
   return std::nullopt;
 }
 
@@ -54,6 +55,8 @@ const char* methodName(ViewMethod method) {
       return "volumes";
     case ViewMethod::kCombined:
       return "combined";
+    case ViewMethod::kGalerkin:
+      return "galerkin";
   }
   return "?";
 }
@@ -112,6 +115,15 @@ void SceneView::applyChange(const SceneChange& change, bool updateRadiosity) {
   } else {
     radiosityIsCurrent_ = false;
     u.radiositySolvesAfresh = method_ == ViewMethod::kRadiosity;
+  }
+  if (method_ == ViewMethod::kGalerkin && galerkinIsCurrent_) {
+    start = std::chrono::steady_clock::now();
+    galerkin_->update(live_, change);
+    galerkinMesh_ = radianceMesh(galerkin_->leafMesh());
+    u.engineSeconds += secondsSince(start);
+  } else {
+    galerkinIsCurrent_ = false;
+    u.radiositySolvesAfresh = u.radiositySolvesAfresh || method_ == ViewMethod::kGalerkin;
   }
   if (method_ == ViewMethod::kCombined && combinedIsCurrent_ && updateRadiosity) {
     start = std::chrono::steady_clock::now();
@@ -182,6 +194,18 @@ Image SceneView::render(const Camera& camera, int width, int height) {
       }
       status_ = std::to_string(combinedMesh_->indices.size() / 3) + " mesh triangles";
       return combinedRenderer_->render(*combinedMesh_, camera, width, height);
+    }
+    case ViewMethod::kGalerkin: {
+      if (!galerkin_)
+        galerkin_ = std::make_unique<GalerkinRadiosity>(galerkinOptionsFrom(radiosityOptions_));
+      if (!galerkinIsCurrent_) {
+        galerkin_->build(live_);
+        galerkinMesh_ = radianceMesh(galerkin_->leafMesh());
+        galerkinIsCurrent_ = true;
+      }
+      if (!meshRenderer_) meshRenderer_ = std::make_unique<MeshRenderer>();
+      status_ = std::to_string(galerkinMesh_->indices.size() / 3) + " leaf triangles";
+      return meshRenderer_->render(*galerkinMesh_, camera, width, height);
     }
     case ViewMethod::kRaytrace: {
       // A view over the live pose and grid, as `penumbra render` makes it; made per image since

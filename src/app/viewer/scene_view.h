@@ -21,6 +21,7 @@
 
 #include "penumbra/geometry/box.h"
 #include "penumbra/radiosity/combined_solution.h"
+#include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/render/image.h"
 #include "penumbra/render/mesh_renderer.h"
@@ -32,9 +33,9 @@
 
 namespace penumbra::viewer {
 
-enum class ViewMethod { kRaytrace, kRadiosity, kVolumes, kCombined };
+enum class ViewMethod { kRaytrace, kRadiosity, kVolumes, kCombined, kGalerkin };
 
-// "raytrace" | "radiosity" | "volumes" | "combined", or nothing.
+// "raytrace" | "radiosity" | "volumes" | "combined" | "galerkin", or nothing.
 std::optional<ViewMethod> parseViewMethod(const std::string& name);
 const char* methodName(ViewMethod method);
 
@@ -132,6 +133,12 @@ class SceneView {
   bool combinedIsCurrent_ = false;
   std::optional<ColoredMesh> combinedMesh_;
   std::unique_ptr<MeshRenderer> combinedRenderer_;
+  // The Galerkin core: solved when first shown, then its line-space update at every change while
+  // shown (every step of a walk: each costs a fraction of a solve), solved afresh after changes
+  // it missed.
+  std::unique_ptr<GalerkinRadiosity> galerkin_;
+  bool galerkinIsCurrent_ = false;
+  std::optional<ColoredMesh> galerkinMesh_;
   SceneUpdate lastUpdate_;
   std::string status_;
 };

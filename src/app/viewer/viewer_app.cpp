@@ -75,6 +75,7 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods
     case GLFW_KEY_2:
     case GLFW_KEY_3:
     case GLFW_KEY_4:
+    case GLFW_KEY_5:
       input->method = key - GLFW_KEY_1;
       break;
     case GLFW_KEY_R:
@@ -156,7 +157,8 @@ void showLastUpdate(const SceneView& view) {
 
 int runViewer(const ViewerOptions& options) {
   const std::optional<ViewMethod> method = parseViewMethod(options.method);
-  if (!method) throw InputError("--method", "must be raytrace, radiosity or volumes");
+  if (!method)
+    throw InputError("--method", "must be raytrace, radiosity, volumes, combined or galerkin");
   Scene scene = loadScene(options.scene);
   if (options.frame < 0 || options.frame >= scene.frames)
     throw InputError("--frame", "frame " + std::to_string(options.frame) +
@@ -343,8 +345,8 @@ int runViewer(const ViewerOptions& options) {
     ImGui::Begin("Penumbra", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::TextUnformatted(sceneName.c_str());
-    const char* methods[] = {"raytrace", "radiosity", "volumes", "combined"};
-    dirty |= ImGui::Combo("method", &methodIndex, methods, 4);
+    const char* methods[] = {"raytrace", "radiosity", "volumes", "combined", "galerkin"};
+    dirty |= ImGui::Combo("method", &methodIndex, methods, 5);
     if (ImGui::SliderInt("frame", &frame, 0, sceneFrames - 1)) {
       playing = false;
       dirty = true;

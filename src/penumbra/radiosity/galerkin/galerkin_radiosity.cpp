@@ -33,6 +33,15 @@ Rgb nonNegative(const Rgb& c) {
 
 }  // namespace
 
+GalerkinOptions galerkinOptionsFrom(const RadiosityOptions& radiosity) {
+  GalerkinOptions galerkin;
+  galerkin.tolerance = radiosity.tolerance;
+  galerkin.maxLinks = radiosity.maxLinks;
+  galerkin.maxElements = radiosity.maxElements;
+  galerkin.threads = radiosity.threads;
+  return galerkin;
+}
+
 GalerkinRadiosity::GalerkinRadiosity(const GalerkinOptions& options) : options_(options) {}
 
 void GalerkinRadiosity::clear() {

@@ -68,6 +68,10 @@ struct GalerkinOptions {
   int threads = 1;
 };
 
+// The Galerkin options a front end's radiosity options ask for: the tolerance, the budgets, the
+// threads.
+GalerkinOptions galerkinOptionsFrom(const RadiosityOptions& radiosity);
+
 struct GalerkinStats {
   long long elements = 0;
   long long leaves = 0;
