@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
@@ -33,6 +34,17 @@ struct GalerkinRadiosity::VisibilityReuse {
   std::uint16_t hiddenPairs = 0;
   bool everyRay = false;
   const std::vector<Box3>* movedBoxes = nullptr;
+};
+
+// What a move changed, for the line-space update's walk.
+struct GalerkinRadiosity::Move {
+  std::vector<char> elementChanged, clusterChanged;  // re-posed, re-covered, refitted
+  std::vector<char> movedPolygon;
+  std::vector<std::pair<PolygonId, PolygonId>> ranges;  // the moved objects' polygons
+  std::vector<Box3> boxes;  // the moved objects' boxes before and after, grown
+  bool endChanged(NodeRef n) const {
+    return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;
+  }
 };
 
 }  // namespace penumbra

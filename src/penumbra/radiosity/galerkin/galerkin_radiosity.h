@@ -276,6 +276,19 @@ class GalerkinRadiosity {
   // Marks a pair's descendants dropped (their candidates released); returns how many.
   long long dropChildren(int pair);
   // The line-space update's steps (galerkin_update.cpp).
+  struct Move;
+  // Re-poses the moved elements, re-covers, refits the clusters; nothing when the update cannot
+  // follow the move (a rebuild then).
+  std::optional<Move> prepareMove(const SceneChange& change);
+  // Walks the pairs from the root, re-estimating the met ones; new subtrees go to `fresh`.
+  void walkPairs(const Move& move, Counters& counters, std::vector<RefineTask>& fresh);
+  // A kept pair's candidates at the new pose: its old ones without the moved polygons, plus the
+  // moved polygons of its parent's (new) candidates that its shaft admits, in ascending order
+  // as a fresh filtering of the parent's gives them (a moved object's polygons are contiguous).
+  std::vector<PolygonId> withMovedPolygons(const Move& move, NodeRef r, NodeRef s,
+                                           const std::vector<PolygonId>& old,
+                                           const std::vector<PolygonId>& inherited) const;
+  void setState(GLink& link, GLink::State state);  // keeps linkCount_
   bool reposeMovedObjects(const SceneChange& change, std::vector<char>& elementChanged);
   void refitClusters(std::vector<char>& clusterChanged);
   void refreshEmission(NodeRef n);

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/base/stopwatch.h"
@@ -34,6 +35,23 @@ bool shaftMeets(const Box3& a, const Box3& b, const std::vector<Box3>& boxes) {
   const Shaft shaft(a, b);
   return std::any_of(boxes.begin(), boxes.end(),
                      [&](const Box3& box) { return shaft.mayIntersect(box); });
+}
+
+// Do two candidate lists (ascending: filtered from the root's) differ in a polygon that did not
+// move?
+bool staticPartDiffers(const std::vector<PolygonId>& a, const std::vector<PolygonId>& b,
+                       const std::vector<char>& movedPolygon) {
+  size_t i = 0, j = 0;
+  while (i < a.size() || j < b.size()) {
+    if (j == b.size() || (i < a.size() && a[i] < b[j])) {
+      if (!movedPolygon[a[i++]]) return true;
+    } else if (i == a.size() || b[j] < a[i]) {
+      if (!movedPolygon[b[j++]]) return true;
+    } else {
+      ++i, ++j;
+    }
+  }
+  return false;
 }
 
 bool sameBox(const Box3& a, const Box3& b) {
@@ -110,44 +128,23 @@ void GalerkinRadiosity::refreshEmission(NodeRef n) {
   cluster.emittedLobes = lobes;
 }
 
-void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& change) {
-  const Stopwatch total;
-  Stopwatch stage;
-  lastUpdate_ = {};
-  const auto rebuild = [&](const char* reason) {
-    build(scene);
-    lastUpdate_.rebuilt = true;
-    lastUpdate_.rebuildReason = reason;
-    lastUpdate_.totalSeconds = total.seconds();
-  };
-  if (elements_.empty()) return rebuild("nothing was built");
-  if (change.extentGrows) return rebuild("the scene's extent grew");
-  scene_ = scene.posed();
-  grid_ = &scene.grid();
-  rays_ = &scene.rays();
-  stats_.refineSeconds = stats_.solveSeconds = 0;
-  stats_.iterations = 0;
-  stats_.pointPairs = stats_.visibilityRays = stats_.unoccludedLinks = 0;
-  if (change.moves.empty()) {
-    stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
-    return;
+std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const SceneChange& change) {
+  Move move;
+  move.elementChanged.assign(elements_.size(), 0);
+  if (!reposeMovedObjects(change, move.elementChanged)) return std::nullopt;
+  move.movedPolygon.assign(scene_.polygons.size(), 0);
+  for (const ObjectMove& m : change.moves) {
+    const PolygonId begin = scene_.objectFirstPolygon[m.object];
+    const PolygonId end = scene_.objectFirstPolygon[m.object + 1];
+    move.ranges.push_back({begin, end});
+    for (PolygonId p = begin; p < end; ++p) move.movedPolygon[p] = 1;
   }
-
-  // 1. The moved objects' elements, the covers contacts give, the cluster boxes.
-  std::vector<char> elementChanged(elements_.size(), 0);
-  if (!reposeMovedObjects(change, elementChanged))
-    return rebuild("a moved polygon's root elements changed (its triangulation)");
-  std::vector<char> movedPolygon(scene_.polygons.size(), 0);
-  for (const ObjectMove& move : change.moves)
-    for (PolygonId p = scene_.objectFirstPolygon[move.object];
-         p < scene_.objectFirstPolygon[move.object + 1]; ++p)
-      movedPolygon[p] = 1;
   std::vector<std::vector<PolygonId>> contacts = faceContacts(scene_);
   for (PolygonId p = 0; p < PolygonId(contacts.size()); ++p) {
     // A cover changes with the polygons in contact, or with one of them moving.
-    bool recover = movedPolygon[p] || contacts[p] != contacts_[p];
-    for (PolygonId q : contacts[p]) recover = recover || movedPolygon[q];
-    for (PolygonId q : contacts_[p]) recover = recover || movedPolygon[q];
+    bool recover = move.movedPolygon[p] || contacts[p] != contacts_[p];
+    for (PolygonId q : contacts[p]) recover = recover || move.movedPolygon[q];
+    for (PolygonId q : contacts_[p]) recover = recover || move.movedPolygon[q];
     if (!recover) continue;
     contacts_[p] = std::move(contacts[p]);
     const auto recoverBelow = [&](auto& self, int index) -> void {
@@ -158,90 +155,63 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       if (cover != e.cover || cover == GElement::kPartlyCovered) {
         lastUpdate_.coverChanged += cover != e.cover ? 1 : 0;
         e.cover = cover;
-        elementChanged[index] = 1;
+        move.elementChanged[index] = 1;
       }
       if (e.firstChild >= 0)
         for (int c = 0; c < 4; ++c) self(self, e.firstChild + c);
     };
     for (int root : polygonRoots_[p]) recoverBelow(recoverBelow, root);
   }
-  std::vector<char> clusterChanged(clusters_.size(), 0);
-  refitClusters(clusterChanged);
+  move.clusterChanged.assign(clusters_.size(), 0);
+  refitClusters(move.clusterChanged);
   refreshEmission({NodeRef::kCluster, 0});
-  for (char c : clusterChanged) lastUpdate_.clustersChanged += c;
+  for (char c : move.clusterChanged) lastUpdate_.clustersChanged += c;
   // The moved objects' boxes before and after, grown by what the ray caster may round.
-  std::vector<Box3> movedBoxes;
   const double margin = 4 * rays_->epsilon() + 1e-9 * scene_.extent.diagonalLength();
-  for (const ObjectMove& move : change.moves) {
-    movedBoxes.push_back(move.boundsBefore.expanded(margin));
-    movedBoxes.push_back(move.boundsAfter.expanded(margin));
+  for (const ObjectMove& m : change.moves) {
+    move.boxes.push_back(m.boundsBefore.expanded(margin));
+    move.boxes.push_back(m.boundsAfter.expanded(margin));
   }
-  lastUpdate_.reposeSeconds = stage.lap();
+  return move;
+}
 
-  // Do two candidate lists (ascending: filtered from the root's) differ in a polygon that did
-  // not move?
-  const auto staticPartDiffers = [&](const std::vector<PolygonId>& a,
-                                     const std::vector<PolygonId>& b) {
-    size_t i = 0, j = 0;
-    while (i < a.size() || j < b.size()) {
-      if (j == b.size() || (i < a.size() && a[i] < b[j])) {
-        if (!movedPolygon[a[i++]]) return true;
-      } else if (i == a.size() || b[j] < a[i]) {
-        if (!movedPolygon[b[j++]]) return true;
-      } else {
-        ++i, ++j;
-      }
-    }
-    return false;
-  };
+std::vector<PolygonId> GalerkinRadiosity::withMovedPolygons(
+    const Move& move, NodeRef r, NodeRef s, const std::vector<PolygonId>& old,
+    const std::vector<PolygonId>& inherited) const {
+  const Shaft shaft(bounds(r), bounds(s));
+  std::vector<PolygonId> entering;
+  for (const auto& [begin, end] : move.ranges) {
+    auto from = std::lower_bound(inherited.begin(), inherited.end(), begin);
+    const auto to = std::lower_bound(from, inherited.end(), end);
+    for (; from != to; ++from)
+      if (shaft.mayIntersect(scene_.polygons[*from].bounds)) entering.push_back(*from);
+  }
+  std::sort(entering.begin(), entering.end());
+  std::vector<PolygonId> kept;
+  kept.reserve(old.size() + entering.size());
+  for (PolygonId id : old)
+    if (!move.movedPolygon[id]) kept.push_back(id);
+  std::vector<PolygonId> merged(kept.size() + entering.size());
+  std::merge(kept.begin(), kept.end(), entering.begin(), entering.end(), merged.begin());
+  return merged;
+}
 
-  // A kept pair's candidates at the new pose: its old ones without the moved polygons, plus the
-  // moved polygons of its parent's (new) candidates that its shaft admits, in ascending order
-  // as a fresh filtering of the parent's gives them (a moved object's polygons are contiguous).
-  std::vector<std::pair<PolygonId, PolygonId>> movedRanges;
-  for (const ObjectMove& move : change.moves)
-    movedRanges.push_back(
-        {scene_.objectFirstPolygon[move.object], scene_.objectFirstPolygon[move.object + 1]});
-  const auto withMovedPolygons = [&](NodeRef r, NodeRef s, const std::vector<PolygonId>& old,
-                                     const std::vector<PolygonId>& inherited) {
-    const Shaft shaft(bounds(r), bounds(s));
-    std::vector<PolygonId> entering;
-    for (const auto& [begin, end] : movedRanges) {
-      auto from = std::lower_bound(inherited.begin(), inherited.end(), begin);
-      const auto to = std::lower_bound(from, inherited.end(), end);
-      for (; from != to; ++from)
-        if (shaft.mayIntersect(scene_.polygons[*from].bounds)) entering.push_back(*from);
-    }
-    std::sort(entering.begin(), entering.end());
-    std::vector<PolygonId> kept;
-    kept.reserve(old.size() + entering.size());
-    for (PolygonId id : old)
-      if (!movedPolygon[id]) kept.push_back(id);
-    std::vector<PolygonId> merged(kept.size() + entering.size());
-    std::merge(kept.begin(), kept.end(), entering.begin(), entering.end(), merged.begin());
-    return merged;
+void GalerkinRadiosity::setState(GLink& link, GLink::State state) {
+  const auto counts = [](GLink::State s) {
+    return s == GLink::kActive || s == GLink::kPassive ? 1 : 0;
   };
+  linkCount_ += counts(state) - counts(link.state);
+  link.state = state;
+}
 
-  // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then
-  // decided in order on one thread (so the result does not depend on the threads).
-  const auto endChanged = [&](NodeRef n) {
-    return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;
-  };
-  const auto setState = [&](GLink& link, GLink::State state) {
-    const auto counts = [](GLink::State s) {
-      return s == GLink::kActive || s == GLink::kPassive ? 1 : 0;
-    };
-    linkCount_ += counts(state) - counts(link.state);
-    link.state = state;
-  };
+void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
+                                  std::vector<RefineTask>& fresh) {
   struct Outcome {
     bool exchanges = false;
     Candidates own;
     Estimate estimate;
     Counters counters;
   };
-  Counters counters;
-  std::vector<RefineTask> fresh;
   // A pair to visit, and whether its parent's candidates changed (then its own may have: the
   // conservative shaft test can admit a polygon its parent's shaft rejected).
   struct Visit {
@@ -255,13 +225,14 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
     std::vector<Visit> met;
     for (const Visit& visit : wave) {
       const GLink& link = links_[visit.pair];
-      if (visit.inheritedChanged || endChanged(link.receiver) || endChanged(link.source)) {
+      if (visit.inheritedChanged || move.endChanged(link.receiver) ||
+          move.endChanged(link.source)) {
         met.push_back(visit);
         ++lastUpdate_.endMoved;
         continue;
       }
       ++lastUpdate_.shaftTests;
-      if (shaftMeets(bounds(link.receiver), bounds(link.source), movedBoxes)) met.push_back(visit);
+      if (shaftMeets(bounds(link.receiver), bounds(link.source), move.boxes)) met.push_back(visit);
     }
     lastUpdate_.walkSeconds += walk.lap();
     std::vector<Outcome> outcomes(met.size());
@@ -273,16 +244,16 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       // With both ends and the inherited candidates as they were, the stored estimate is a
       // fresh one of the last pose: its candidates change only by moved polygons, and the point
       // pairs whose segments miss the moved boxes keep their visibility.
-      const bool kept =
-          !met[m].inheritedChanged && !endChanged(link.receiver) && !endChanged(link.source);
+      const bool kept = !met[m].inheritedChanged && !move.endChanged(link.receiver) &&
+                        !move.endChanged(link.source);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
       const Candidates& inherited = candidatesOf(link.parent);
-      out.own =
-          shared(kept && estimated && link.candidates
-                     ? withMovedPolygons(link.receiver, link.source, *link.candidates, *inherited)
-                     : shaftCandidates(link.receiver, link.source, *inherited),
-                 inherited);
-      const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &movedBoxes};
+      out.own = shared(
+          kept && estimated && link.candidates
+              ? withMovedPolygons(move, link.receiver, link.source, *link.candidates, *inherited)
+              : shaftCandidates(link.receiver, link.source, *inherited),
+          inherited);
+      const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &move.boxes};
       out.estimate = estimate(link.receiver, link.source, *out.own, out.counters,
                               kept && estimated ? &reuse : nullptr);
     });
@@ -322,7 +293,8 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       if (end && link.state == GLink::kPassive && link.splitReceiver == (*end == r)) {
         // Still split the same way: walk on. Its children's candidates can change beyond the
         // moved polygons (which their own shafts filter) only if its own gained or lost another.
-        const bool changed = !link.candidates || staticPartDiffers(*link.candidates, *out.own);
+        const bool changed =
+            !link.candidates || staticPartDiffers(*link.candidates, *out.own, move.movedPolygon);
         link.candidates = out.own;
         visitChildren(changed);
       } else if (end) {  // split anew: a subtree for refinement below
@@ -343,6 +315,41 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
     }
     wave = std::move(next);
   }
+}
+
+void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& change) {
+  const Stopwatch total;
+  Stopwatch stage;
+  lastUpdate_ = {};
+  const auto rebuild = [&](const char* reason) {
+    build(scene);
+    lastUpdate_.rebuilt = true;
+    lastUpdate_.rebuildReason = reason;
+    lastUpdate_.totalSeconds = total.seconds();
+  };
+  if (elements_.empty()) return rebuild("nothing was built");
+  if (change.extentGrows) return rebuild("the scene's extent grew");
+  scene_ = scene.posed();
+  grid_ = &scene.grid();
+  rays_ = &scene.rays();
+  stats_.refineSeconds = stats_.solveSeconds = 0;
+  stats_.iterations = 0;
+  stats_.pointPairs = stats_.visibilityRays = stats_.unoccludedLinks = 0;
+  if (change.moves.empty()) {
+    stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
+    return;
+  }
+
+  // 1. The moved objects' elements, the covers contacts give, the cluster boxes.
+  const std::optional<Move> move = prepareMove(change);
+  if (!move) return rebuild("a moved polygon's root elements changed (its triangulation)");
+  lastUpdate_.reposeSeconds = stage.lap();
+
+  // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then
+  // decided in order on one thread (so the result does not depend on the threads).
+  Counters counters;
+  std::vector<RefineTask> fresh;
+  walkPairs(*move, counters, fresh);
   lastUpdate_.traverseSeconds = stage.lap();
 
   // 3. New subtrees below new splits; the pass a build makes after each solve (the oracle with
