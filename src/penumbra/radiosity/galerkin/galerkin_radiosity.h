@@ -225,7 +225,7 @@ class GalerkinRadiosity {
     int childCount = 0;
     // The occluder candidates its estimate used (kSelf: its parent's), which its children's
     // are filtered from; a move edits them (Drettakis & Sillion's shafts, here as their
-    // contents).
+    // contents). A link keeps them only when few (keptForLink).
     Candidates candidates;
     bool active() const { return state == kActive; }
   };
@@ -269,6 +269,11 @@ class GalerkinRadiosity {
   // A pair's candidates (a subset of its parent's), stored once: the parent's own list when
   // they are all of it, one shared empty list when none.
   static Candidates shared(std::vector<PolygonId> own, const Candidates& inherited);
+  // What a link (an active pair) keeps of its candidates: a long list costs more memory than
+  // making it again when a move meets the link (a 10,000-polygon room kept 270 MB of them), so
+  // only its parent's shared list or at most kMostCandidatesKept; a split pair keeps its own.
+  static constexpr size_t kMostCandidatesKept = 64;
+  static Candidates keptForLink(const Candidates& own, const Candidates& inherited);
   // The candidates a pair's children filter: its own stored ones.
   const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
   // Removes the dropped pairs from storage (every index changes).

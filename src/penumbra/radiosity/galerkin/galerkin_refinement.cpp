@@ -59,6 +59,11 @@ void GalerkinRadiosity::queueChildren(NodeRef r, NodeRef s, NodeRef end,
                             : RefineTask{r, child, candidates, parent});
 }
 
+GalerkinRadiosity::Candidates GalerkinRadiosity::keptForLink(const Candidates& own,
+                                                             const Candidates& inherited) {
+  return own == inherited || own->size() <= kMostCandidatesKept ? own : Candidates();
+}
+
 GalerkinRadiosity::Candidates GalerkinRadiosity::shared(std::vector<PolygonId> own,
                                                         const Candidates& inherited) {
   // A subset of the same size is the same list; and most deep pairs' lists are empty.
@@ -240,7 +245,8 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
           queueChildren(r, s, *end, out.own, pair, next);
           continue;
         }
-      links_[appendPair(task, GLink::kActive, &e)].candidates = out.own;
+      links_[appendPair(task, GLink::kActive, &e)].candidates =
+          keptForLink(out.own, task.candidates);
     }
     wave = std::move(next);
   }
@@ -257,9 +263,12 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
       continue;
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
     if (!end) continue;
-    // Its children filter what its own estimate used.
+    // Its children filter what its own estimate used (made again if it was not kept).
     const NodeRef r = link.receiver, s = link.source;
-    const Candidates own = link.candidates;
+    const Candidates own =
+        link.candidates
+            ? link.candidates
+            : shared(shaftCandidates(r, s, *candidatesOf(link.parent)), candidatesOf(link.parent));
     GLink& split = links_[i];
     split.state = GLink::kPassive;
     split.splitReceiver = *end == r;

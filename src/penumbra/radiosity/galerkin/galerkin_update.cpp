@@ -310,7 +310,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
           ++lastUpdate_.cleanedUp;
         }
         setState(links_[i], GLink::kActive);
-        links_[i].candidates = out.own;
+        links_[i].candidates = keptForLink(out.own, candidatesOf(links_[i].parent));
       }
     }
     wave = std::move(next);
@@ -377,6 +377,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
         continue;
       lastUpdate_.dropped += dropChildren(int(i));
       setState(links_[i], GLink::kActive);
+      links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
       ++lastUpdate_.cleanedUp;
     }
     const size_t again = links_.size();

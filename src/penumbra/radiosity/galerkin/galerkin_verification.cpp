@@ -106,7 +106,10 @@ std::string GalerkinRadiosity::verifyLinks() const {
                    << own->size() << " candidates)";
         return difference.str();
       }
-      if (!link.candidates || *link.candidates != *own) return pair + ": stale candidates";
+      // A link keeps its candidates only when they are few (GalerkinRadiosity::keptForLink).
+      if ((link.candidates || link.state == GLink::kPassive) &&
+          (!link.candidates || *link.candidates != *own))
+        return pair + ": stale candidates";
       candidates[i] = own;
     }
     for (int c = link.firstChild; c < link.firstChild + link.childCount; ++c) {
