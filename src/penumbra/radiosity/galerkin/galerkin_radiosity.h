@@ -295,6 +295,12 @@ class GalerkinRadiosity {
                                            const std::vector<PolygonId>& inherited) const;
   void setState(GLink& link, GLink::State state);  // keeps linkCount_
   bool reposeMovedObjects(const SceneChange& change, std::vector<char>& elementChanged);
+  // A cluster's box and area from its root elements, summed as the builder sums them.
+  struct ClusterExtent {
+    Box3 bounds;
+    double area = 0;
+  };
+  ClusterExtent extentOf(const ClusterNode& cluster) const;
   void refitClusters(std::vector<char>& clusterChanged);
   void refreshEmission(NodeRef n);
   // Groups of root elements for the movable hierarchy: the static scene, then each object that

@@ -54,11 +54,6 @@ bool staticPartDiffers(const std::vector<PolygonId>& a, const std::vector<Polygo
   return false;
 }
 
-bool sameBox(const Box3& a, const Box3& b) {
-  return a.min.x == b.min.x && a.min.y == b.min.y && a.min.z == b.min.z && a.max.x == b.max.x &&
-         a.max.y == b.max.y && a.max.z == b.max.z;
-}
-
 }  // namespace
 
 bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change,
@@ -97,20 +92,25 @@ bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change,
   return true;
 }
 
-void GalerkinRadiosity::refitClusters(std::vector<char>& clusterChanged) {
+GalerkinRadiosity::ClusterExtent GalerkinRadiosity::extentOf(const ClusterNode& cluster) const {
   // As the builder computes them: over the cluster's root elements in cluster order.
+  ClusterExtent extent;
+  for (int i = cluster.elementBegin; i < cluster.elementEnd; ++i) {
+    const GElement& e = elements_[rootOrder_[i]];
+    extent.bounds.extend(e.shape.bounds());
+    extent.area += e.area;
+  }
+  return extent;
+}
+
+void GalerkinRadiosity::refitClusters(std::vector<char>& clusterChanged) {
   for (size_t c = 0; c < clusters_.size(); ++c) {
     ClusterNode& cluster = clusters_[c].structure;
-    Box3 bounds;
-    double area = 0;
-    for (int i = cluster.elementBegin; i < cluster.elementEnd; ++i) {
-      const GElement& e = elements_[rootOrder_[i]];
-      bounds.extend(e.shape.bounds());
-      area += e.area;
-    }
-    clusterChanged[c] = !sameBox(bounds, cluster.bounds) || area != cluster.area;
-    cluster.bounds = bounds;
-    cluster.area = area;
+    const ClusterExtent extent = extentOf(cluster);
+    clusterChanged[c] = !(extent.bounds.min == cluster.bounds.min) ||
+                        !(extent.bounds.max == cluster.bounds.max) || extent.area != cluster.area;
+    cluster.bounds = extent.bounds;
+    cluster.area = extent.area;
   }
 }
 

@@ -55,14 +55,9 @@ std::string GalerkinRadiosity::verifyLinks() const {
   }
   for (size_t c = 0; c < clusters_.size(); ++c) {
     const ClusterNode& cluster = clusters_[c].structure;
-    Box3 bounds;
-    double area = 0;
-    for (int i = cluster.elementBegin; i < cluster.elementEnd; ++i) {
-      bounds.extend(elements_[rootOrder_[i]].shape.bounds());
-      area += elements_[rootOrder_[i]].area;
-    }
-    if (!sameBits(bounds.min, cluster.bounds.min) || !sameBits(bounds.max, cluster.bounds.max) ||
-        area != cluster.area)
+    const ClusterExtent extent = extentOf(cluster);
+    if (!sameBits(extent.bounds.min, cluster.bounds.min) ||
+        !sameBits(extent.bounds.max, cluster.bounds.max) || extent.area != cluster.area)
       return "cluster " + std::to_string(c) + ": a stale box or area";
   }
 
