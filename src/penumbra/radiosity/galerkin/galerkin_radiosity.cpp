@@ -4,13 +4,13 @@
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <tuple>
 #include <unordered_set>
 
 #include "penumbra/base/check.h"
+#include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/face_contacts.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/hierarchy_building.h"
@@ -21,10 +21,6 @@
 namespace penumbra {
 
 namespace {
-
-double elapsedSeconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 // A steep linear function dips below zero near a leaf's corner; light does not.
 Rgb nonNegative(const Rgb& c) {
@@ -56,7 +52,7 @@ void GalerkinRadiosity::clear() {
 }
 
 void GalerkinRadiosity::build(const DynamicScene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch total;
   clear();
   scene_ = scene.posed();
   grid_ = &scene.grid();
@@ -87,7 +83,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
 
   Counters counters;
   for (int pass = 0; pass < std::max(1, options_.refinementPasses); ++pass) {
-    const auto refineStart = std::chrono::steady_clock::now();
+    Stopwatch stage;
     bool refined = false;
     if (pass == 0) {
       auto all = std::make_shared<std::vector<PolygonId>>(scene_.polygons.size());
@@ -98,17 +94,16 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
     } else {
       refined = refineActiveLinks(counters);
     }
-    stats_.refineSeconds += elapsedSeconds(refineStart);
+    stats_.refineSeconds += stage.lap();
     if (!refined) break;
-    const auto solveStart = std::chrono::steady_clock::now();
     solve(options_.convergence);
-    stats_.solveSeconds += elapsedSeconds(solveStart);
+    stats_.solveSeconds += stage.lap();
   }
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
   statsCounted_ = false;
-  stats_.totalSeconds = elapsedSeconds(start);
+  stats_.totalSeconds = total.seconds();
 }
 
 const GalerkinStats& GalerkinRadiosity::stats() const {
