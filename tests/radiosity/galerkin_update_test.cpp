@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 
@@ -208,6 +210,132 @@ TEST(GalerkinUpdate, IsTheSameForAnyNumberOfThreads) {
   ASSERT_EQ(a.elements().size(), b.elements().size());
   for (size_t i = 0; i < a.elements().size(); ++i)
     ASSERT_EQ(a.elements()[i].node.radiosity[0].r, b.elements()[i].node.radiosity[0].r) << i;
+}
+
+// Issue 17: "one more refinement and clean-up pass after an update changes no link". Every build
+// and every update ends with a pass that changed nothing (GalerkinOptions::refinementPasses), so
+// one more pass on the final radiosities finds nothing to split and no split pair to clean up.
+TEST(GalerkinUpdate, OneMoreRefinementPassChangesNothing) {
+  for (const char* path :
+       {"chair-room/chair-room.json", "cornell-box/cornell-everything-moves.json"}) {
+    const Scene scene = loadBundled(path);
+    DynamicScene live(scene, 0);
+    GalerkinRadiosity solver(optionsAt(1e-3));
+    solver.build(live);
+    EXPECT_TRUE(solver.stats().settled) << path;
+    EXPECT_EQ(solver.pendingRefinement().splits, 0) << path;
+    EXPECT_EQ(solver.pendingRefinement().cleanUps, 0) << path;
+    for (int frame = 1; frame < scene.frames; ++frame) {
+      const SceneChange change = live.changeToFrame(frame);
+      live.apply(change);
+      solver.update(live, change);
+      ASSERT_TRUE(solver.stats().settled) << path << " frame " << frame;
+      EXPECT_EQ(solver.pendingRefinement().splits, 0) << path << " frame " << frame;
+      EXPECT_EQ(solver.pendingRefinement().cleanUps, 0) << path << " frame " << frame;
+    }
+  }
+}
+
+// The furnace (every polygon emits M = 1 with reflectance 1/2: E = 2 everywhere in a closed
+// scene) with the chair room's furniture while its chair moves: at every frame the updated
+// solution's energy balance is within 0.002 of a fresh build's at that pose, and its mean
+// distance to the exact E = 2 over a fresh build's leaves within 0.002 of the fresh build's own:
+// the update adds no error of its own. Issue 17 asks more, every leaf within 1% of the fresh
+// build, and that does not hold (printed): the static solver itself is far from E = 2 in the
+// 1 cm gap behind the sideboard (0.08-0.3) and in other narrow gaps, and what it reads there
+// depends on the hierarchy, which the update's history changes (issue 19, "no leaks").
+// Measured: balance 0.912 against 0.911, mean distance 0.0959 against 0.0962; largest leaf
+// difference 2.9 (the gap behind the sideboard).
+TEST(GalerkinUpdate, FurnaceWithAMovingChairAddsNoErrorToAFreshBuilds) {
+  Scene scene = loadBundled("chair-room/chair-room.json");
+  // The one-sided lamp hangs under the ceiling, whose back it hides: without it E = 2 exactly.
+  std::erase_if(scene.objects, [&](const SceneObject& o) {
+    for (int m : o.polygonMaterial)
+      if (scene.materials[m].isEmitter()) return true;
+    return false;
+  });
+  for (Material& m : scene.materials) {
+    m.emission = Rgb::gray(1);
+    m.reflectance = Rgb::gray(0.5);
+  }
+  ASSERT_GE(scene.frames, 2);
+  DynamicScene live(scene, 0);
+  GalerkinRadiosity solver(optionsAt(1e-3));
+  solver.build(live);
+  for (int frame = 1; frame < scene.frames; ++frame) {
+    const SceneChange change = live.changeToFrame(frame);
+    ASSERT_FALSE(change.moves.empty());
+    live.apply(change);
+    solver.update(live, change);
+    GalerkinRadiosity fresh(optionsAt(1e-3));
+    fresh.build(live);
+    double largest = 0, updatedFromExact = 0, freshFromExact = 0, area = 0;
+    long long leaves = 0;
+    for (const GalerkinRadiosity::GElement& e : fresh.elements()) {
+      if (!e.isLeaf() || e.cover == GalerkinRadiosity::GElement::kCovered) continue;
+      const Vec3 c = e.shape.centroid();
+      const auto a = solver.sample(c, e.shape.normal), b = fresh.sample(c, e.shape.normal);
+      ASSERT_TRUE(a && b);
+      const double updated = a->total().average(), expected = b->total().average();
+      largest = std::max(largest, std::abs(updated - expected) / expected);
+      updatedFromExact += e.area * std::abs(updated - 2) / 2;
+      freshFromExact += e.area * std::abs(expected - 2) / 2;
+      area += e.area;
+      ++leaves;
+    }
+    std::printf(
+        "frame %d: %lld leaves, largest difference %.5f; mean distance to E = 2: updated %.4f, "
+        "fresh %.4f; absorbed/emitted %.5f / %.5f\n",
+        frame, leaves, largest, updatedFromExact / area, freshFromExact / area, balance(solver),
+        balance(fresh));
+    EXPECT_NEAR(balance(solver), balance(fresh), 0.002) << "frame " << frame;
+    EXPECT_NEAR(updatedFromExact / area, freshFromExact / area, 0.002) << "frame " << frame;
+  }
+}
+
+// Frame-rate control: past its budget an update splits nothing more and stops its passes and its
+// solve's iterations, but still estimates again every pair the move met (the light must not pass
+// through the moved chair), so every pair stays a fresh estimate; what it deferred is reported,
+// and an update without a budget afterwards leaves nothing pending.
+TEST(GalerkinUpdate, PastItsFrameBudgetAnUpdateDefersSplitsButEstimatesEveryMetPair) {
+  const Scene scene = loadBundled("chair-room/chair-room.json");
+  DynamicScene live(scene, 0);
+  GalerkinOptions budgeted = optionsAt(1e-3);
+  budgeted.frameBudgetSeconds = 1e-9;  // spent before the walk ends
+  GalerkinRadiosity solver(budgeted);
+  solver.build(live);
+  const size_t elements = solver.elements().size();
+  long long deferred = 0;
+  for (int frame = 1; frame < scene.frames; ++frame) {
+    const SceneChange change = live.changeToFrame(frame);
+    live.apply(change);
+    solver.update(live, change);
+    const GalerkinUpdateStats& u = solver.lastUpdate();
+    EXPECT_TRUE(u.overBudget) << "frame " << frame;
+    EXPECT_EQ(u.refined, 0) << "frame " << frame;
+    EXPECT_EQ(u.created, 0) << "frame " << frame;
+    EXPECT_GT(u.met, 0) << "frame " << frame;
+    EXPECT_FALSE(solver.stats().settled) << "frame " << frame;
+    EXPECT_EQ(solver.elements().size(), elements) << "frame " << frame;
+    EXPECT_EQ(solver.verifyLinks(), "") << "frame " << frame;
+    GalerkinRadiosity fresh(optionsAt(1e-3));
+    fresh.build(live);
+    std::printf("frame %d: %lld splits deferred, absorbed/emitted %.5f (fresh %.5f)\n", frame,
+                u.deferredSplits, balance(solver), balance(fresh));
+    deferred += u.deferredSplits;
+  }
+  EXPECT_GT(deferred, 0);
+  // Back to the first keyframe without a budget: the passes split what was deferred.
+  solver.setFrameBudget(0);
+  const SceneChange back = live.changeToFrame(0);
+  live.apply(back);
+  solver.update(live, back);
+  EXPECT_FALSE(solver.lastUpdate().overBudget);
+  EXPECT_TRUE(solver.stats().settled);
+  EXPECT_EQ(solver.pendingRefinement().splits, 0);
+  EXPECT_EQ(solver.pendingRefinement().cleanUps, 0);
+  EXPECT_GT(solver.lastUpdate().refined + solver.lastUpdate().laterSplits, 0);
+  EXPECT_EQ(solver.verifyLinks(), "");
 }
 
 TEST(GalerkinUpdate, AStepThatMovesNothingKeepsTheSolution) {

@@ -86,6 +86,7 @@ struct RadiosityCommandOptions {
   std::string update = "full";
   std::string solver = "hierarchical";  // or galerkin
   RadiosityOptions radiosity;
+  double frameBudgetMs = 0;  // --update linespace: GalerkinOptions::frameBudgetSeconds
   std::string report;
 };
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common);

@@ -133,6 +133,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(kPositiveFinite);
   addRadiosityBudget(*radiosityCommand, radiosity.radiosity);
+  radiosityCommand
+      ->add_option("--frame-budget", radiosity.frameBudgetMs,
+                   "--update linespace: milliseconds per update past which links are no longer "
+                   "split (later updates split them); frame-rate control")
+      ->check(kPositiveFinite);
   radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
 
   ShadowsOptions shadows;

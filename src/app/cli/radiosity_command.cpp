@@ -1,6 +1,6 @@
-// `penumbra radiosity SCENE [--frames A:B] --update full [--solver hierarchical|galerkin]
-// [--tolerance T] --report R.json`: the radiosity solution over a range of frames, with per-frame
-// statistics.
+// `penumbra radiosity SCENE [--frames A:B] [--update full|linespace|verify]
+// [--solver hierarchical|galerkin] [--tolerance T] [--frame-budget MS] --report R.json`: the
+// radiosity solution over a range of frames, with per-frame statistics.
 
 #include <algorithm>
 #include <cmath>
@@ -62,6 +62,8 @@ nlohmann::json statsJson(const GalerkinStats& s) {
           {"visibility_rays", s.visibilityRays},
           {"unoccluded_links", s.unoccludedLinks},
           {"iterations", s.iterations},
+          {"refinement_passes", s.passes},
+          {"settled", s.settled},
           {"refine_seconds", s.refineSeconds},
           {"solve_seconds", s.solveSeconds},
           {"memory_bytes",
@@ -86,6 +88,9 @@ nlohmann::json updateJson(const GalerkinUpdateStats& u) {
                       {"created", u.created},
                       {"dropped", u.dropped},
                       {"added_by_radiosity_pass", u.laterSplits},
+                      {"cleaned_up_by_radiosity_pass", u.laterCleanUps},
+                      {"deferred_splits", u.deferredSplits},
+                      {"over_budget", u.overBudget},
                       {"stage_seconds",
                        {{"repose", u.reposeSeconds},
                         {"traverse", u.traverseSeconds},
@@ -127,7 +132,9 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
   const bool incremental = options.update != "full";
   const bool verify = options.update == "verify";
   DynamicScene live(scene, range.first);
-  GalerkinRadiosity solver(galerkinOptions(options.radiosity, common));
+  GalerkinOptions solverOptions = galerkinOptions(options.radiosity, common);
+  solverOptions.frameBudgetSeconds = options.frameBudgetMs / 1000;
+  GalerkinRadiosity solver(solverOptions);
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("radiosity (galerkin)", range.last - range.first + 1, common.quiet);
   for (int frame = range.first; frame <= range.last; ++frame) {
@@ -169,11 +176,21 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
       std::snprintf(line, sizeof line, "; fresh build: %.3f s, %lld links, L2 difference %.4f",
                     fresh.stats().totalSeconds, fresh.stats().activeLinks, l2);
       freshLine = line;
-      if (!difference.empty()) {
+      std::string failure = difference;
+      // An update ends with a pass that changed nothing; one more must change nothing either.
+      if (failure.empty() && s.settled && (pending.splits != 0 || pending.cleanUps != 0))
+        failure = "one more refinement pass would split " + std::to_string(pending.splits) +
+                  " links and clean up " + std::to_string(pending.cleanUps) + " split pairs";
+      if (!failure.empty()) {
         std::fprintf(stderr, "penumbra: verification failed at frame %d: %s\n", frame,
-                     difference.c_str());
+                     failure.c_str());
         return kVerificationFailed;
       }
+      if (!s.settled)
+        std::fprintf(stderr,
+                     "penumbra: frame %d: refinement stopped at its pass budget before a pass "
+                     "changed nothing (%lld splits and %lld clean-ups pending)\n",
+                     frame, pending.splits, pending.cleanUps);
     }
     frames.push_back(entry);
     if (!common.quiet) {
@@ -184,6 +201,8 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
         const GalerkinUpdateStats& u = solver.lastUpdate();
         std::fprintf(stderr, "; %lld shaft tests, %lld pairs met, %lld split, %lld cleaned up",
                      u.shaftTests, u.met, u.refined, u.cleanedUp);
+        if (u.overBudget)
+          std::fprintf(stderr, ", over budget: %lld splits deferred", u.deferredSplits);
       }
       std::fprintf(stderr, "%s\n", freshLine.c_str());
     }
@@ -209,6 +228,10 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
     throw UsageError("--update " + options.update +
                      " is not available for --solver hierarchical (available: full; the "
                      "line-space update is --solver galerkin's)");
+  if (options.frameBudgetMs > 0 && options.update != "linespace")
+    throw UsageError(
+        "--frame-budget needs --update linespace (verify compares a hierarchy "
+        "that does not depend on the machine's speed)");
   const Scene scene = loadScene(options.scene);
   const FrameRange range = parseFrameRange(options.frames, scene.frames);
   if (options.solver == "galerkin") return runGalerkin(options, common, scene, range);

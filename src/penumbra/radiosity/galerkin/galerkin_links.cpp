@@ -124,12 +124,12 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   std::array<std::array<double, 4>, 4> transfers{};
   // Points under a polygon in face-to-face contact see only it, which the ray caster cannot tell.
   std::array<bool, 4> receiverCovered{}, sourceCovered{};
-  if (r.isElement() && elements_[r.index].cover == GElement::kPartlyCovered)
+  if (r.isElement())
     for (int i = 0; i < receiver.count; ++i)
-      receiverCovered[i] = isCovered(elements_[r.index].polygon, receiver.points[i]);
-  if (s.isElement() && elements_[s.index].cover == GElement::kPartlyCovered)
+      receiverCovered[i] = (elements_[r.index].coveredPoints >> i) & 1u;
+  if (s.isElement())
     for (int j = 0; j < source.count; ++j)
-      sourceCovered[j] = isCovered(elements_[s.index].polygon, source.points[j]);
+      sourceCovered[j] = (elements_[s.index].coveredPoints >> j) & 1u;
   for (int i = 0; i < receiver.count; ++i) {
     const Vec3& x = receiver.points[i];
     double cubatureSum = 0;

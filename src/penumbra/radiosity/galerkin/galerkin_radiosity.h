@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/cluster.h"
 #include "penumbra/radiosity/galerkin/axis_lobes.h"
 #include "penumbra/radiosity/galerkin/linear_basis.h"
@@ -52,7 +53,10 @@ struct GalerkinOptions {
   double tolerance = 1e-3;
   // Elements are not split below minAreaFactor x tolerance x the total surface area.
   double minAreaFactor = 0.05;
-  int refinementPasses = 3;   // refine, solve, refine with the new radiosities, solve, ...
+  // Refinement passes at most: from the root pair, then on each solve's radiosities (with the
+  // clean-up of split pairs they no longer need), until a pass changes no pair. An update ends
+  // the same way: one more pass after it changes nothing unless the budget stopped it.
+  int refinementPasses = 8;
   double convergence = 1e-4;  // stop when the largest change of B < convergence x max B
   int maxIterations = 200;
   long long maxLinks = 1'000'000;  // refinement's budget (an input error past it)
@@ -64,6 +68,13 @@ struct GalerkinOptions {
   // 16 gave the lowest error for the links spent on the three scenes' error curves (1, 2, 4, 8,
   // 16 and 32 measured; docs/radiosity.md).
   double hiddenWeight = 16;
+  // Frame-rate control for the update (Drettakis & Sillion 1997, §6): past this many seconds
+  // into an update (0: no limit), it splits no more links and runs no more refinement passes;
+  // the links it would have split stay links, carrying light at their coarser level, and later
+  // updates' passes split them. The pairs a move meets are still all estimated again (the
+  // light must not pass through the moved object), and the solve still runs. With a limit the
+  // hierarchy depends on the machine's speed: verification runs without one.
+  double frameBudgetSeconds = 0;
   // Worker threads for link estimation (0: all cores); the result does not depend on it.
   int threads = 1;
 };
@@ -82,6 +93,8 @@ struct GalerkinStats {
   long long visibilityRays = 0;   // rays cast
   long long unoccludedLinks = 0;  // links whose shaft held no polygon (no rays)
   int iterations = 0;             // Jacobi iterations, all passes
+  int passes = 0;                 // refinement passes (a build's first from the root)
+  bool settled = false;           // the last pass changed no pair (refinementPasses)
   std::size_t elementBytes = 0;   // memory in use (vector capacities)
   std::size_t clusterBytes = 0;
   std::size_t linkBytes = 0;
@@ -108,7 +121,10 @@ struct GalerkinUpdateStats {
   long long created = 0;           // new pairs estimated below new splits
   long long dropped = 0;           // pairs dropped with cleaned-up subtrees
   bool compacted = false;          // the dropped pairs' storage was reclaimed
-  long long laterSplits = 0;       // pairs added by the pass on the last solve's radiosities
+  long long laterSplits = 0;       // pairs added by the passes on the solves' radiosities
+  long long laterCleanUps = 0;     // split pairs those passes made links again
+  long long deferredSplits = 0;    // splits the frame budget left to later updates
+  bool overBudget = false;         // the frame budget ran out (frameBudgetSeconds)
   double reposeSeconds = 0;        // elements, contacts, cluster boxes, emission lobes
   double traverseSeconds = 0;      // the walk and the re-estimates
   double walkSeconds = 0;          // of it, deciding which pairs are met (shaft tests)
@@ -134,6 +150,9 @@ class GalerkinRadiosity {
   // what is stored, bit for bit: empty when all agree, else the first difference in words.
   std::string verifyLinks() const;
   const GalerkinUpdateStats& lastUpdate() const { return lastUpdate_; }
+  // Frame-rate control from the next update on (GalerkinOptions::frameBudgetSeconds; 0: none):
+  // an interactive front end can tighten it while an object is dragged, and lift it after.
+  void setFrameBudget(double seconds) { options_.frameBudgetSeconds = seconds; }
   // What one more refinement and clean-up pass on the present radiosities would change: links it
   // would split, and split pairs whose own estimate it would find good enough.
   struct PendingRefinement {
@@ -183,6 +202,10 @@ class GalerkinRadiosity {
     // link cubature points and centroid: a covered point sees only the covering polygon.
     enum Cover : std::uint8_t { kExposed, kPartlyCovered, kCovered };
     Cover cover = kExposed;
+    // kPartlyCovered: which of its cubature points are covered (bit i: point i), what its
+    // links' estimates read; a move of a polygon in contact changes the estimates only if it
+    // changes these.
+    std::uint8_t coveredPoints = 0;
     bool isLeaf() const { return firstChild < 0; }
   };
   struct GCluster {
@@ -307,6 +330,24 @@ class GalerkinRadiosity {
   // moves (keyframes), with where each root sits for the octants.
   void buildHierarchy(const Scene& scene, const std::vector<Element>& roots);
   bool refineActiveLinks(Counters& counters);
+  // Split pairs whose oracle is now at most `below` made links again (their subtrees dropped,
+  // counted into `dropped`); returns how many.
+  long long cleanUpSplitPairs(double below, long long& dropped);
+  // A split pair is cleaned up when its oracle falls below this share of the threshold, not
+  // at the threshold: a pair whose oracle sits at the threshold would otherwise be split and
+  // cleaned up in turn as each solve moves the radiosities by a little.
+  static constexpr double kCleanUpShare = 0.5;
+  // Refinement brought to rest on its own radiosities: clean-up and refinement passes, each
+  // followed by a solve, until a pass changes no pair (or refinementPasses in all).
+  // `decideAnew`: the radiosities changed everywhere (a moved light), so the first clean-up
+  // pass decides every split pair as a fresh refinement would, at the threshold itself.
+  struct Settling {
+    int rounds = 0;
+    bool settled = false;
+    long long added = 0, cleanedUp = 0, dropped = 0;
+    double refineSeconds = 0, solveSeconds = 0;
+  };
+  Settling settle(Counters& counters, bool decideAnew = false);
   // Sets the element's basis and cubature from its shape.
   static void prepare(GElement& e);
   // Gives `child` its shape (one of the parent's childVertices()), basis and area: the same
@@ -341,8 +382,17 @@ class GalerkinRadiosity {
   // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it?
   bool isCovered(PolygonId polygon, const Vec3& x) const;
   GElement::Cover coverOf(const GElement& e) const;
+  // GElement::coveredPoints for an element whose cover is set.
+  std::uint8_t coveredPointsOf(const GElement& e) const;
+
+  // Has the update run past its frame budget? (Never during a build.)
+  bool overBudget() const;
+  // A split the oracle asks for, left to a later update when over budget (counted).
+  bool deferSplit();
 
   GalerkinOptions options_;
+  Stopwatch frameClock_;        // since the update began
+  bool frameBudgeted_ = false;  // an update with options_.frameBudgetSeconds is running
   PosedScene scene_;
   const UniformGrid* grid_ = nullptr;
   const RayCaster* rays_ = nullptr;

@@ -7,6 +7,7 @@
 
 #include "penumbra/base/input_error.h"
 #include "penumbra/base/parallel_for.h"
+#include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 
 namespace penumbra {
@@ -154,6 +155,7 @@ int GalerkinRadiosity::splitElement(int index) {
     // later pass reads it.
     child.node.radiosity = restrictedToChild(parent.node.radiosity, child.fromParent);
     child.cover = freshCover(child);
+    child.coveredPoints = coveredPointsOf(child);
     elements_.push_back(child);
   }
   elements_[index].firstChild = first;
@@ -238,7 +240,7 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
       }
       const Estimate& e = out.estimate;
       if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
-        if (const std::optional<NodeRef> end = endToSplit(r, s)) {
+        if (const std::optional<NodeRef> end = endToSplit(r, s); end && !deferSplit()) {
           const int pair = appendPair(task, GLink::kPassive, &e);
           links_[pair].splitReceiver = *end == r;
           links_[pair].candidates = out.own;
@@ -252,6 +254,53 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
   }
 }
 
+long long GalerkinRadiosity::cleanUpSplitPairs(double below, long long& dropped) {
+  long long cleanedUp = 0;
+  for (size_t i = 0; i < links_.size(); ++i) {
+    const GLink& link = links_[i];
+    if (link.state != GLink::kPassive || oracle(link.receiver, link.source, link.meanTransfer,
+                                                link.spread, link.hiddenTransfer) > below)
+      continue;
+    dropped += dropChildren(int(i));
+    setState(links_[i], GLink::kActive);
+    links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
+    ++cleanedUp;
+  }
+  return cleanedUp;
+}
+
+GalerkinRadiosity::Settling GalerkinRadiosity::settle(Counters& counters, bool decideAnew) {
+  Settling settling;
+  Stopwatch stage;
+  for (; settling.rounds + 1 < options_.refinementPasses && !overBudget(); ++settling.rounds) {
+    const size_t before = links_.size();
+    const double share = decideAnew && settling.rounds == 0 ? 1.0 : kCleanUpShare;
+    const long long cleanedUp = cleanUpSplitPairs(threshold_ * share, settling.dropped);
+    settling.cleanedUp += cleanedUp;
+    const bool split = refineActiveLinks(counters);
+    settling.added += (long long)(links_.size() - before);
+    settling.refineSeconds += stage.lap();
+    if (!split && cleanedUp == 0) {
+      settling.settled = true;
+      break;
+    }
+    solve(options_.convergence, true);
+    settling.solveSeconds += stage.lap();
+  }
+  return settling;
+}
+
+bool GalerkinRadiosity::overBudget() const {
+  return frameBudgeted_ && frameClock_.seconds() > options_.frameBudgetSeconds;
+}
+
+bool GalerkinRadiosity::deferSplit() {
+  if (!overBudget()) return false;
+  lastUpdate_.overBudget = true;
+  ++lastUpdate_.deferredSplits;
+  return true;
+}
+
 bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
   std::vector<RefineTask> wave;
   const int count = int(links_.size());
@@ -262,7 +311,7 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
         threshold_)
       continue;
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
-    if (!end) continue;
+    if (!end || deferSplit()) continue;
     // Its children filter what its own estimate used (made again if it was not kept).
     const NodeRef r = link.receiver, s = link.source;
     const Candidates own =

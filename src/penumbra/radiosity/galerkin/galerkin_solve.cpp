@@ -203,6 +203,11 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
         largestReflected =
             std::max(largestReflected, (e.node.radiosity[0] - e.node.emission).maxComponent());
     if (change <= convergence * std::max(largestReflected, 1e-300)) break;
+    // Frame-rate control: the next update goes on from here (it solves from this solution).
+    if (overBudget()) {
+      lastUpdate_.overBudget = true;
+      break;
+    }
   }
 }
 

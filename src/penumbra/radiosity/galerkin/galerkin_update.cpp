@@ -151,10 +151,13 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const Scen
       GElement& e = elements_[index];
       const GElement::Cover cover = freshCover(e);
       // A partly covered element's estimates read which of its points are covered, which a
-      // moving partner changes even when the kind of cover stays.
-      if (cover != e.cover || cover == GElement::kPartlyCovered) {
-        lastUpdate_.coverChanged += cover != e.cover ? 1 : 0;
-        e.cover = cover;
+      // moving partner may change while the kind of cover stays.
+      const GElement::Cover before = e.cover;
+      const std::uint8_t pointsBefore = e.coveredPoints;
+      e.cover = cover;
+      e.coveredPoints = coveredPointsOf(e);
+      if (cover != before || e.coveredPoints != pointsBefore) {
+        ++lastUpdate_.coverChanged;
         move.elementChanged[index] = 1;
       }
       if (e.firstChild >= 0)
@@ -290,7 +293,10 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
         end = endToSplit(r, s);
       GLink& link = links_[i];
       storeEstimate(link, e);
-      if (end && link.state == GLink::kPassive && link.splitReceiver == (*end == r)) {
+      const bool splitAlike =
+          end && link.state == GLink::kPassive && link.splitReceiver == (*end == r);
+      if (end && !splitAlike && deferSplit()) end.reset();  // a link until a later update
+      if (splitAlike) {
         // Still split the same way: walk on. Its children's candidates can change beyond the
         // moved polygons (which their own shafts filter) only if its own gained or lost another.
         const bool changed =
@@ -321,7 +327,9 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   const Stopwatch total;
   Stopwatch stage;
   lastUpdate_ = {};
+  frameClock_ = total;
   const auto rebuild = [&](const char* reason) {
+    frameBudgeted_ = false;
     build(scene);
     lastUpdate_.rebuilt = true;
     lastUpdate_.rebuildReason = reason;
@@ -340,6 +348,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
     return;
   }
 
+  frameBudgeted_ = options_.frameBudgetSeconds > 0;
   // 1. The moved objects' elements, the covers contacts give, the cluster boxes.
   const std::optional<Move> move = prepareMove(change);
   if (!move) return rebuild("a moved polygon's root elements changed (its triangulation)");
@@ -352,41 +361,30 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   walkPairs(*move, counters, fresh);
   lastUpdate_.traverseSeconds = stage.lap();
 
-  // 3. New subtrees below new splits; the pass a build makes after each solve (the oracle with
-  // the radiosities the last solve left), here before the solve: one solve per update, its
-  // refinement following the light one move behind; then a solve from the previous solution.
+  // 3. New subtrees below new splits; the pass a build makes after its first solve (the oracle
+  // with the radiosities the last solve left), here before the solve, as the light has moved
+  // little since; a solve from the previous solution; then passes and solves until a pass
+  // changes nothing, as a build ends. A moved light changes the radiosities everywhere, not only
+  // near the move: there the first pass waits for the solve.
   const size_t before = links_.size();
   if (!fresh.empty()) refine(std::move(fresh), counters);
   lastUpdate_.created = (long long)(links_.size() - before);
-  // A moved light changes the radiosities everywhere, not only near the move: there the solve
-  // comes first, then split pairs the new radiosities no longer need are cleaned up and the pass
-  // on the new radiosities runs, as a build's does, and a second solve (where everything moves
-  // in the Cornell box, the irradiance 0.25-0.47% from a fresh build's instead of 0.46-0.67%).
-  const bool lightMoved = change.movesLight();
   const size_t count = links_.size();
-  if (options_.refinementPasses > 1 && !lightMoved) refineActiveLinks(counters);
+  if (options_.refinementPasses > 1 && !change.movesLight()) refineActiveLinks(counters);
   lastUpdate_.laterSplits = (long long)(links_.size() - count);
   lastUpdate_.refineSeconds = stage.lap();
   solve(options_.convergence, true);
   lastUpdate_.solveSeconds = stage.lap();
-  if (options_.refinementPasses > 1 && lightMoved) {
-    for (size_t i = 0; i < links_.size(); ++i) {
-      GLink& link = links_[i];
-      if (link.state != GLink::kPassive || oracle(link.receiver, link.source, link.meanTransfer,
-                                                  link.spread, link.hiddenTransfer) > threshold_)
-        continue;
-      lastUpdate_.dropped += dropChildren(int(i));
-      setState(links_[i], GLink::kActive);
-      links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
-      ++lastUpdate_.cleanedUp;
-    }
-    const size_t again = links_.size();
-    refineActiveLinks(counters);
-    lastUpdate_.laterSplits += (long long)(links_.size() - again);
-    lastUpdate_.refineSeconds += stage.lap();
-    solve(options_.convergence, true);
-    lastUpdate_.solveSeconds += stage.lap();
-  }
+  const Settling settling = settle(counters, change.movesLight());
+  lastUpdate_.laterSplits += settling.added;
+  lastUpdate_.laterCleanUps = settling.cleanedUp;
+  lastUpdate_.dropped += settling.dropped;
+  lastUpdate_.refineSeconds += settling.refineSeconds;
+  lastUpdate_.solveSeconds += settling.solveSeconds;
+  stats_.passes = settling.rounds + (settling.settled ? 1 : 0);
+  stats_.settled = settling.settled;
+  if (!settling.settled && overBudget()) lastUpdate_.overBudget = true;
+  frameBudgeted_ = false;
   // Dropped pairs stay in storage until they are a quarter of it: then it is compacted, so a
   // long walk of moves does not grow it.
   if (droppedPairs_ * 4 > (long long)links_.size()) {

@@ -43,7 +43,8 @@ std::string GalerkinRadiosity::verifyLinks() const {
   if (faceContacts(scene_) != contacts_) return "the stored face contacts are not the scene's";
   for (size_t i = 0; i < elements_.size(); ++i) {
     const GElement& e = elements_[i];
-    if (freshCover(e) != e.cover) return "element " + std::to_string(i) + ": a stale cover";
+    if (freshCover(e) != e.cover || coveredPointsOf(e) != e.coveredPoints)
+      return "element " + std::to_string(i) + ": a stale cover";
     if (e.firstChild < 0) continue;
     const auto children = e.shape.childVertices();
     for (int c = 0; c < 4; ++c) {
@@ -123,7 +124,10 @@ GalerkinRadiosity::PendingRefinement GalerkinRadiosity::pendingRefinement() cons
                               link.hiddenTransfer) > threshold_ &&
                        endToSplit(link.receiver, link.source).has_value();
     if (link.state == GLink::kActive && wants) ++pending.splits;
-    if (link.state == GLink::kPassive && !wants) ++pending.cleanUps;
+    if (link.state == GLink::kPassive &&
+        oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
+            threshold_ * kCleanUpShare)
+      ++pending.cleanUps;
   }
   return pending;
 }
