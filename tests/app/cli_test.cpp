@@ -674,13 +674,41 @@ TEST(Cli, RadiosityLineSpaceUpdateIsVerifiedAtEveryFrame) {
       EXPECT_GE(frame["update"]["stage_seconds"][stage].get<double>(), 0) << stage;
     EXPECT_LT(frame["fresh"]["relative_l2_difference"].get<double>(), 0.02);
     EXPECT_GT(frame["fresh"]["active_links"].get<long long>(), 100);
+    // The update ended with a pass that changed nothing, and verify checked one more.
+    EXPECT_TRUE(frame["settled"].get<bool>());
+    EXPECT_EQ(frame["pending_splits"], 0);
+    EXPECT_EQ(frame["pending_clean_ups"], 0);
   }
   for (const std::string& wrong :
        {"radiosity " + scene + " --update linespace",  // the hierarchical solver has none
-        "radiosity " + scene + " --solver galerkin --update sideways"}) {
+        "radiosity " + scene + " --solver galerkin --update sideways",
+        // a frame budget makes the hierarchy depend on the machine: not with verify
+        "radiosity " + scene + " --solver galerkin --update verify --frame-budget 5"}) {
     const RunResult refused = runPenumbra(wrong);
     EXPECT_EQ(refused.exitCode, 1) << wrong << ": " << refused.output;
     EXPECT_NE(refused.output.find("--update"), std::string::npos) << refused.output;
+  }
+}
+
+// Frame-rate control: with a budget smaller than any update, every update defers its splits and
+// says so in the report.
+TEST(Cli, RadiosityFrameBudgetDefersSplits) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-everything-moves.json";
+  const std::string path = dir.path("budget.json");
+  const RunResult r = runPenumbra("radiosity " + scene +
+                                  " --solver galerkin --update linespace --tolerance 3e-3 "
+                                  "--frame-budget 1e-6 --report " +
+                                  path);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path));
+  for (size_t f = 1; f < report["frames"].size(); ++f) {
+    const nlohmann::json& update = report["frames"][f]["update"];
+    EXPECT_TRUE(update["over_budget"].get<bool>());
+    EXPECT_GT(update["deferred_splits"].get<long long>(), 0);
+    EXPECT_EQ(update["refined"], 0);
+    EXPECT_FALSE(report["frames"][f]["settled"].get<bool>());
   }
 }
 
