@@ -166,6 +166,18 @@ int randomMoves(const std::string& path, int moves, double tolerance) {
     const std::string difference = solver.verifyLinks();
     if (!difference.empty() && failures++ < 5)
       std::printf("  move %d: VERIFICATION FAILED: %s\n", step, difference.c_str());
+    // Memory along the walk, beside a fresh build's at the same pose (what the update's history
+    // adds to it).
+    if ((step + 1) % std::max(1, moves / 10) == 0) {
+      GalerkinRadiosity fresh(options);
+      fresh.build(live);
+      const GalerkinStats &u = solver.stats(), &f = fresh.stats();
+      std::printf(
+          "  after %4d moves: %6.1f MiB, %7lld elements, %8lld pairs; a fresh build: %6.1f MiB, "
+          "%7lld elements, %8lld pairs\n",
+          step + 1, double(u.totalBytes()) / (1 << 20), u.elements, u.activeLinks + u.passiveLinks,
+          double(f.totalBytes()) / (1 << 20), f.elements, f.activeLinks + f.passiveLinks);
+    }
   }
   std::printf(
       "%s: %d random moves, median update %.1f ms, %d rebuilt, %d differ from fresh "

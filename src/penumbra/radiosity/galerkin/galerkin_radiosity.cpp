@@ -98,7 +98,10 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   stats_.solveSeconds += settling.solveSeconds;
   stats_.passes = 1 + settling.rounds + (settling.settled ? 1 : 0);
   stats_.settled = settling.settled;
-  if (settling.dropped > 0) compactPairs();
+  if (settling.dropped > 0) {
+    compactPairs();
+    compactElements();
+  }
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;

@@ -121,6 +121,7 @@ struct GalerkinUpdateStats {
   long long created = 0;           // new pairs estimated below new splits
   long long dropped = 0;           // pairs dropped with cleaned-up subtrees
   bool compacted = false;          // the dropped pairs' storage was reclaimed
+  long long mergedElements = 0;    // elements merged back into their parents (then)
   long long laterSplits = 0;       // pairs added by the passes on the solves' radiosities
   long long laterCleanUps = 0;     // split pairs those passes made links again
   long long deferredSplits = 0;    // splits the frame budget left to later updates
@@ -301,6 +302,10 @@ class GalerkinRadiosity {
   const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
   // Removes the dropped pairs from storage (every index changes).
   void compactPairs();
+  // Merges back every split whose subtree no live pair names (a move or a clean-up left it
+  // unused) and removes those elements from storage (element indices change); returns how many.
+  // Run after compactPairs, so that every stored pair is live.
+  long long compactElements();
   // Marks a pair's descendants dropped (their candidates released); returns how many.
   long long dropChildren(int pair);
   // The line-space update's steps (galerkin_update.cpp).

@@ -196,6 +196,65 @@ void GalerkinRadiosity::compactPairs() {
   droppedPairs_ = 0;
 }
 
+long long GalerkinRadiosity::compactElements() {
+  // Which elements a pair names; an element's split is kept while its subtree holds one.
+  std::vector<char> needed(elements_.size(), 0);
+  for (const GLink& link : links_) {
+    if (link.state == GLink::kDropped) continue;
+    if (link.receiver.isElement()) needed[link.receiver.index] = 1;
+    if (link.source.isElement()) needed[link.source.index] = 1;
+  }
+  // Children come after their parent (a split appends them): from the back, each element learns
+  // whether its subtree is needed before its parent asks.
+  for (int e = int(elements_.size()) - 1; e >= 0; --e) {
+    GElement& element = elements_[e];
+    if (element.firstChild < 0) continue;
+    bool childNeeded = false;
+    for (int c = 0; c < 4; ++c) childNeeded = childNeeded || needed[element.firstChild + c];
+    if (childNeeded)
+      needed[e] = 1;
+    else
+      element.firstChild = -1;  // merged back: a leaf again, as a fresh build would leave it
+  }
+  // The elements still reachable from the roots, renumbered in their order (parents before
+  // children, each split's four children together).
+  std::vector<char> reachable(elements_.size(), 0);
+  for (const std::vector<int>& roots : polygonRoots_)
+    for (int root : roots) reachable[root] = 1;
+  for (size_t e = 0; e < elements_.size(); ++e)
+    if (reachable[e] && elements_[e].firstChild >= 0)
+      for (int c = 0; c < 4; ++c) reachable[elements_[e].firstChild + c] = 1;
+  std::vector<int> newIndex(elements_.size(), -1);
+  int count = 0;
+  for (size_t e = 0; e < elements_.size(); ++e)
+    if (reachable[e]) newIndex[e] = count++;
+  const long long released = (long long)elements_.size() - count;
+  if (released == 0) return 0;
+  std::vector<GElement> compact;
+  compact.reserve(size_t(count));
+  for (size_t e = 0; e < elements_.size(); ++e) {
+    if (!reachable[e]) continue;
+    GElement element = std::move(elements_[e]);
+    if (element.parent >= 0) element.parent = newIndex[element.parent];
+    if (element.firstChild >= 0) element.firstChild = newIndex[element.firstChild];
+    compact.push_back(std::move(element));
+  }
+  elements_ = std::move(compact);
+  const auto renumber = [&](NodeRef& n) {
+    if (n.isElement()) n.index = newIndex[n.index];
+  };
+  for (GLink& link : links_) {
+    renumber(link.receiver);
+    renumber(link.source);
+  }
+  for (std::vector<int>& roots : polygonRoots_)
+    for (int& root : roots) root = newIndex[root];
+  for (int& root : rootOrder_) root = newIndex[root];
+  for (GCluster& cluster : clusters_)
+    for (NodeRef& child : cluster.structure.children) renumber(child);
+  return released;
+}
+
 // Refinement runs in waves, breadth first: each wave's node pairs are estimated in parallel
 // (reading the hierarchy only), then decided in order on one thread, which splits elements,
 // appends links and queues the next wave. So the hierarchy and the links' order are the same for

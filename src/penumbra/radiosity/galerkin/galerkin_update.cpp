@@ -389,6 +389,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   // long walk of moves does not grow it.
   if (droppedPairs_ * 4 > (long long)links_.size()) {
     compactPairs();
+    lastUpdate_.mergedElements = compactElements();
     lastUpdate_.compacted = true;
   }
   stats_.pointPairs = counters.pointPairs;
