@@ -182,6 +182,48 @@ TEST(GalerkinRadiosity, FurnaceInEmptyRoomConservesEnergy) {
   }
 }
 
+// The furnace with the chair room's furniture (its one-sided lamp left out: E = 2 exactly at
+// every point), probed in its narrow gaps: a sideboard and a sofa stand 1 cm from the walls.
+// Across such a gap the kernel is a step the Gauss points of a link can all miss; the receivers'
+// corners and the spot across from a small source are sampled too (GalerkinRadiosity::estimate).
+// Measured at 1e-3: the sideboard's back 1.81 (0.07 before those samples), the wall behind it
+// 2.01. Not yet right, printed: behind the sofa (its back 1.48, the wall 1.24), where the wall's
+// links to the sofa stay at cluster level longer (issue 19).
+TEST(GalerkinRadiosity, FurnaceReachesIntoNarrowGaps) {
+  Scene scene = loadScene(scenePath("chair-room/chair-room.json"));
+  std::erase_if(scene.objects, [&](const SceneObject& o) {
+    return std::any_of(o.polygonMaterial.begin(), o.polygonMaterial.end(),
+                       [&](int m) { return scene.materials[m].isEmitter(); });
+  });
+  for (Material& m : scene.materials) {
+    m.emission = Rgb::gray(1);
+    m.reflectance = Rgb::gray(0.5);
+  }
+  const DynamicScene live(scene, 0);
+  GalerkinOptions options;
+  options.tolerance = 1e-3;
+  GalerkinRadiosity solver(options);
+  solver.build(live);
+  struct Probe {
+    const char* where;
+    Vec3 point, normal;
+  };
+  const Probe probes[] = {
+      {"sideboard's back", {4.49, 0.375, 1.18}, {1, 0, 0}},
+      {"wall behind the sideboard", {4.5, 0.375, 1.18}, {-1, 0, 0}},
+      {"sofa's back", {0.01, 0.4, 2.6}, {-1, 0, 0}},
+      {"wall behind the sofa", {0, 0.4, 2.6}, {1, 0, 0}},
+      {"wall behind the open bookshelf", {3.5, 0.5, 0}, {0, 0, 1}},
+  };
+  for (const Probe& probe : probes) {
+    const auto sample = solver.sample(probe.point, probe.normal);
+    ASSERT_TRUE(sample) << probe.where;
+    std::printf("%s: %.3f\n", probe.where, sample->total().average());
+  }
+  const auto back = solver.sample(probes[0].point, probes[0].normal);
+  EXPECT_NEAR(back->total().average(), 2, 0.2);
+}
+
 // The direct part against the exact reference (the light clipped at each point), at random
 // receiver points of the Cornell box.
 TEST(GalerkinRadiosity, DirectLightAgreesWithTheExactReference) {
