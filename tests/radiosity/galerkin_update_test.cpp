@@ -333,8 +333,19 @@ TEST(GalerkinUpdate, PastItsFrameBudgetAnUpdateDefersSplitsButEstimatesEveryMetP
     deferred += u.deferredSplits;
   }
   EXPECT_GT(deferred, 0);
-  // Back to the first keyframe without a budget: the passes split what was deferred.
+  // Steps that move nothing carry on with what the budget left, a little at a time; then back
+  // to the first keyframe without a budget: the passes split what was deferred.
+  const GalerkinStats before = solver.stats();
+  solver.update(live, live.changeToFrame(scene.frames - 1));
+  EXPECT_GT(solver.lastUpdate().laterSplits, 0);
+  EXPECT_GE(solver.stats().activeLinks + solver.stats().passiveLinks,
+            before.activeLinks + before.passiveLinks);
+  EXPECT_EQ(solver.verifyLinks(), "");
   solver.setFrameBudget(0);
+  solver.update(live, live.changeToFrame(scene.frames - 1));  // still nothing moves
+  EXPECT_TRUE(solver.stats().settled);
+  EXPECT_EQ(solver.pendingRefinement().splits, 0);
+  EXPECT_EQ(solver.pendingRefinement().cleanUps, 0);
   const SceneChange back = live.changeToFrame(0);
   live.apply(back);
   solver.update(live, back);

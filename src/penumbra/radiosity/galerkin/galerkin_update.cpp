@@ -344,6 +344,31 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   stats_.iterations = 0;
   stats_.pointPairs = stats_.visibilityRays = stats_.unoccludedLinks = 0;
   if (change.moves.empty()) {
+    // Nothing moved: what an earlier update's frame budget left undone (splits, passes, the
+    // solve's iterations) goes on here, under the budget, until the solution is at rest again.
+    // One pass always runs, so that each such step makes progress whatever the budget.
+    if (!stats_.settled) {
+      Counters counters;
+      const size_t count = links_.size();
+      refineActiveLinks(counters);
+      lastUpdate_.refineSeconds = stage.lap();
+      frameBudgeted_ = options_.frameBudgetSeconds > 0;
+      solve(options_.convergence, true);
+      lastUpdate_.solveSeconds = stage.lap();
+      const Settling settling = settle(counters);
+      lastUpdate_.laterSplits = (long long)(links_.size() - count);
+      lastUpdate_.laterCleanUps = settling.cleanedUp;
+      lastUpdate_.dropped = settling.dropped;
+      lastUpdate_.refineSeconds += settling.refineSeconds;
+      lastUpdate_.solveSeconds += settling.solveSeconds;
+      stats_.passes = 1 + settling.rounds + (settling.settled ? 1 : 0);
+      stats_.settled = settling.settled;
+      if (!settling.settled && overBudget()) lastUpdate_.overBudget = true;
+      frameBudgeted_ = false;
+      stats_.pointPairs = counters.pointPairs;
+      stats_.visibilityRays = counters.visibilityRays;
+      statsCounted_ = false;
+    }
     stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
     return;
   }
