@@ -353,6 +353,11 @@ class GalerkinRadiosity {
     double refineSeconds = 0, solveSeconds = 0;
   };
   Settling settle(Counters& counters, bool decideAnew = false);
+  // An update's record of its passes (`passesBefore` run before settle) and the end of its
+  // frame budget.
+  void recordPasses(const Settling& settling, int passesBefore);
+  // compactPairs and compactElements once dropped pairs are a quarter of storage.
+  void compactIfWorthIt();
   // Sets the element's basis and cubature from its shape.
   static void prepare(GElement& e);
   // Gives `child` its shape (one of the parent's childVertices()), basis and area: the same

@@ -323,6 +323,26 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
   }
 }
 
+void GalerkinRadiosity::recordPasses(const Settling& settling, int passesBefore) {
+  lastUpdate_.laterCleanUps = settling.cleanedUp;
+  lastUpdate_.dropped += settling.dropped;
+  lastUpdate_.refineSeconds += settling.refineSeconds;
+  lastUpdate_.solveSeconds += settling.solveSeconds;
+  stats_.passes = passesBefore + settling.rounds + (settling.settled ? 1 : 0);
+  stats_.settled = settling.settled;
+  if (!settling.settled && overBudget()) lastUpdate_.overBudget = true;
+  frameBudgeted_ = false;
+}
+
+void GalerkinRadiosity::compactIfWorthIt() {
+  // Dropped pairs stay in storage until they are a quarter of it: then it is compacted, so a
+  // long walk of moves does not grow it, and the splits no pair needs any more are merged back.
+  if (droppedPairs_ * 4 <= (long long)links_.size()) return;
+  compactPairs();
+  lastUpdate_.mergedElements = compactElements();
+  lastUpdate_.compacted = true;
+}
+
 void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& change) {
   const Stopwatch total;
   Stopwatch stage;
@@ -355,16 +375,9 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       frameBudgeted_ = options_.frameBudgetSeconds > 0;
       solve(options_.convergence, true);
       lastUpdate_.solveSeconds = stage.lap();
-      const Settling settling = settle(counters);
+      recordPasses(settle(counters), 1);
       lastUpdate_.laterSplits = (long long)(links_.size() - count);
-      lastUpdate_.laterCleanUps = settling.cleanedUp;
-      lastUpdate_.dropped = settling.dropped;
-      lastUpdate_.refineSeconds += settling.refineSeconds;
-      lastUpdate_.solveSeconds += settling.solveSeconds;
-      stats_.passes = 1 + settling.rounds + (settling.settled ? 1 : 0);
-      stats_.settled = settling.settled;
-      if (!settling.settled && overBudget()) lastUpdate_.overBudget = true;
-      frameBudgeted_ = false;
+      compactIfWorthIt();
       stats_.pointPairs = counters.pointPairs;
       stats_.visibilityRays = counters.visibilityRays;
       statsCounted_ = false;
@@ -402,21 +415,8 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   lastUpdate_.solveSeconds = stage.lap();
   const Settling settling = settle(counters, change.movesLight());
   lastUpdate_.laterSplits += settling.added;
-  lastUpdate_.laterCleanUps = settling.cleanedUp;
-  lastUpdate_.dropped += settling.dropped;
-  lastUpdate_.refineSeconds += settling.refineSeconds;
-  lastUpdate_.solveSeconds += settling.solveSeconds;
-  stats_.passes = settling.rounds + (settling.settled ? 1 : 0);
-  stats_.settled = settling.settled;
-  if (!settling.settled && overBudget()) lastUpdate_.overBudget = true;
-  frameBudgeted_ = false;
-  // Dropped pairs stay in storage until they are a quarter of it: then it is compacted, so a
-  // long walk of moves does not grow it.
-  if (droppedPairs_ * 4 > (long long)links_.size()) {
-    compactPairs();
-    lastUpdate_.mergedElements = compactElements();
-    lastUpdate_.compacted = true;
-  }
+  recordPasses(settling, 0);
+  compactIfWorthIt();
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
