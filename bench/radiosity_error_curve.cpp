@@ -8,12 +8,13 @@
 // Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
 //                              [--no-final-gather] [--combined] [--path-tracer]
 //                              [--visibility-rays N]
-//                              [--galerkin [--repeat N] [--hidden-weight W]]
+//                              [--galerkin [--repeat N] [--hidden-weight W] [--worst N]]
 //                              [--gather-rays N]
 //                              [scene.json ...]
 // --galerkin: the Galerkin core (radiosity/galerkin/) instead of the hierarchical solver with its
 // final gather; --repeat N solves each tolerance N times and reports the fastest; --hidden-weight
-// sets how many times a link's partly hidden transfer counts in its oracle.
+// sets how many times a link's partly hidden transfer counts in its oracle; --worst N lists the N
+// points with the largest errors under each row.
 // --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
 // with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the
@@ -67,6 +68,7 @@ struct Options {
   double hiddenWeight = -1;  // Galerkin: GalerkinOptions::hiddenWeight (negative: its default)
   int visibilityRays = 0;    // 0: the solver's default
   int gatherRays = 0;
+  int worst = 0;  // Galerkin: the points with the largest errors, listed under each row
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
   std::vector<std::string> scenes;
 };
@@ -211,6 +213,24 @@ void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points,
       "%lld rays, %lld unoccluded links, %d iterations\n",
       100 * percentile(errors.signedIndirect, 0.5), absorbed.average() / emitted.average(),
       s.pointPairs, s.visibilityRays, s.unoccludedLinks, s.iterations);
+  // Where the solution is furthest from the reference: position, receiver, both values.
+  std::vector<size_t> order(points.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto error = [&](size_t i) {
+    const double value = samples[i] ? samples[i]->total().average() : 0;
+    return std::abs(value - points[i].reference) / points[i].reference;
+  };
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return error(a) > error(b); });
+  for (size_t k = 0; k < std::min(order.size(), size_t(std::max(0, o.worst))); ++k) {
+    const OpenPoint& p = points[order[k]];
+    std::printf(
+        "#   %+7.1f%% at (%.4f %.4f %.4f) normal (%.2f %.2f %.2f), polygon %d: %.4g against "
+        "%.4g (direct %.4g)\n",
+        100 * (samples[order[k]] ? samples[order[k]]->total().average() / p.reference - 1 : -1),
+        p.point.p.x, p.point.p.y, p.point.p.z, p.point.n.x, p.point.n.y, p.point.n.z,
+        int(p.point.receiver), samples[order[k]] ? samples[order[k]]->total().average() : 0,
+        p.reference, p.direct);
+  }
   std::fflush(stdout);
 }
 
@@ -325,6 +345,8 @@ int main(int argc, char** argv) {
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")
       o.gatherRays = std::stoi(next());
+    else if (arg == "--worst")
+      o.worst = std::stoi(next());
     else
       o.scenes.push_back(arg);
   }
