@@ -104,7 +104,7 @@ std::vector<PolygonId> GalerkinRadiosity::shaftCandidates(
   const PolygonId ownS = s.isElement() ? elements_[s.index].polygon : PolygonId(-1);
   std::vector<PolygonId> candidates;
   for (PolygonId id : among)
-    if (id != ownR && id != ownS && shaft.mayIntersect(scene_.polygons[id].bounds))
+    if (id != ownR && id != ownS && shaft.mayIntersect(polygonBounds_[id]))
       candidates.push_back(id);
   return candidates;
 }
@@ -176,7 +176,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   if (!testEveryRay) {
     candidateBoxes.reserve(candidates.size());
     for (PolygonId id : candidates)
-      candidateBoxes.push_back(scene_.polygons[id].bounds.expanded(rays_->epsilon()));
+      candidateBoxes.push_back(polygonBounds_[id].expanded(rays_->epsilon()));
   }
   double hiddenTransfer = 0;
   Estimate e;

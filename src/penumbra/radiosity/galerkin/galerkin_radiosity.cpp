@@ -51,12 +51,18 @@ void GalerkinRadiosity::clear() {
   stats_ = {};
 }
 
+void GalerkinRadiosity::takeScene(const DynamicScene& scene) {
+  scene_ = scene.posed();
+  polygonBounds_.resize(scene_.polygons.size());
+  for (const WorldPolygon& polygon : scene_.polygons) polygonBounds_[polygon.id] = polygon.bounds;
+  grid_ = &scene.grid();
+  rays_ = &scene.rays();
+}
+
 void GalerkinRadiosity::build(const DynamicScene& scene) {
   const Stopwatch total;
   clear();
-  scene_ = scene.posed();
-  grid_ = &scene.grid();
-  rays_ = &scene.rays();
+  takeScene(scene);
 
   const std::vector<Element> roots = rootElements(scene_, polygonRoots_);
   CHECK(!roots.empty());

@@ -335,9 +335,14 @@ class GalerkinRadiosity {
   // moves (keyframes), with where each root sits for the octants.
   void buildHierarchy(const Scene& scene, const std::vector<Element>& roots);
   bool refineActiveLinks(Counters& counters);
-  // Split pairs whose oracle is now at most `below` made links again (their subtrees dropped,
-  // counted into `dropped`); returns how many.
-  long long cleanUpSplitPairs(double below, long long& dropped);
+  // One refinement pass: splits the links whose oracle exceeds the threshold (refining below
+  // them) and, when cleanUpBelow >= 0, makes split pairs whose oracle is at most cleanUpBelow
+  // links again (their subtrees dropped).
+  struct PassOutcome {
+    bool split = false;
+    long long cleanedUp = 0, dropped = 0;
+  };
+  PassOutcome refinementPass(Counters& counters, double cleanUpBelow);
   // A split pair is cleaned up when its oracle falls below this share of the threshold, not
   // at the threshold: a pair whose oracle sits at the threshold would otherwise be split and
   // cleaned up in turn as each solve moves the radiosities by a little.
@@ -404,6 +409,10 @@ class GalerkinRadiosity {
   Stopwatch frameClock_;        // since the update began
   bool frameBudgeted_ = false;  // an update with options_.frameBudgetSeconds is running
   PosedScene scene_;
+  // The polygons' bounds side by side (shafts test long candidate lists against them, and the
+  // scene's polygons hold far more).
+  std::vector<Box3> polygonBounds_;
+  void takeScene(const DynamicScene& scene);  // scene_, polygonBounds_, grid_, rays_
   const UniformGrid* grid_ = nullptr;
   const RayCaster* rays_ = nullptr;
   std::vector<GElement> elements_;

@@ -313,33 +313,18 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
   }
 }
 
-long long GalerkinRadiosity::cleanUpSplitPairs(double below, long long& dropped) {
-  long long cleanedUp = 0;
-  for (size_t i = 0; i < links_.size(); ++i) {
-    const GLink& link = links_[i];
-    if (link.state != GLink::kPassive || oracle(link.receiver, link.source, link.meanTransfer,
-                                                link.spread, link.hiddenTransfer) > below)
-      continue;
-    dropped += dropChildren(int(i));
-    setState(links_[i], GLink::kActive);
-    links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
-    ++cleanedUp;
-  }
-  return cleanedUp;
-}
-
 GalerkinRadiosity::Settling GalerkinRadiosity::settle(Counters& counters, bool decideAnew) {
   Settling settling;
   Stopwatch stage;
   for (; settling.rounds + 1 < options_.refinementPasses && !overBudget(); ++settling.rounds) {
     const size_t before = links_.size();
     const double share = decideAnew && settling.rounds == 0 ? 1.0 : kCleanUpShare;
-    const long long cleanedUp = cleanUpSplitPairs(threshold_ * share, settling.dropped);
-    settling.cleanedUp += cleanedUp;
-    const bool split = refineActiveLinks(counters);
+    const PassOutcome pass = refinementPass(counters, threshold_ * share);
+    settling.cleanedUp += pass.cleanedUp;
+    settling.dropped += pass.dropped;
     settling.added += (long long)(links_.size() - before);
     settling.refineSeconds += stage.lap();
-    if (!split && cleanedUp == 0) {
+    if (!pass.split && pass.cleanedUp == 0) {
       settling.settled = true;
       break;
     }
@@ -361,10 +346,29 @@ bool GalerkinRadiosity::deferSplit() {
 }
 
 bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
+  return refinementPass(counters, -1).split;
+}
+
+GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& counters,
+                                                                 double cleanUpBelow) {
+  // One scan in storage order, where a pair comes before its descendants: a cleaned-up pair's
+  // subtree is dropped before the scan reaches it, and the splits are refined after the scan, so
+  // the outcome is that of a clean-up scan followed by a split scan.
+  PassOutcome outcome;
   std::vector<RefineTask> wave;
   const int count = int(links_.size());
   for (int i = 0; i < count; ++i) {
     const GLink& link = links_[i];
+    if (link.state == GLink::kPassive && cleanUpBelow >= 0) {
+      if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) >
+          cleanUpBelow)
+        continue;
+      outcome.dropped += dropChildren(i);
+      setState(links_[i], GLink::kActive);
+      links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
+      ++outcome.cleanedUp;
+      continue;
+    }
     if (!link.active()) continue;
     if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
         threshold_)
@@ -383,9 +387,10 @@ bool GalerkinRadiosity::refineActiveLinks(Counters& counters) {
     split.candidates = own;
     queueChildren(r, s, *end, own, i, wave);
   }
-  if (wave.empty()) return false;
+  if (wave.empty()) return outcome;
   refine(std::move(wave), counters);
-  return true;
+  outcome.split = true;
+  return outcome;
 }
 
 }  // namespace penumbra

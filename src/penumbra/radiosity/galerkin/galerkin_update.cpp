@@ -139,16 +139,31 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const Scen
     move.ranges.push_back({begin, end});
     for (PolygonId p = begin; p < end; ++p) move.movedPolygon[p] = 1;
   }
+  // The moved objects' boxes before and after, grown by what the ray caster may round.
+  const double margin = 4 * rays_->epsilon() + 1e-9 * scene_.extent.diagonalLength();
+  for (const ObjectMove& m : change.moves) {
+    move.boxes.push_back(m.boundsBefore.expanded(margin));
+    move.boxes.push_back(m.boundsAfter.expanded(margin));
+  }
   std::vector<std::vector<PolygonId>> contacts = faceContacts(scene_);
   for (PolygonId p = 0; p < PolygonId(contacts.size()); ++p) {
     // A cover changes with the polygons in contact, or with one of them moving.
-    bool recover = move.movedPolygon[p] || contacts[p] != contacts_[p];
+    const bool everywhere = move.movedPolygon[p] || contacts[p] != contacts_[p];
+    bool recover = everywhere;
     for (PolygonId q : contacts[p]) recover = recover || move.movedPolygon[q];
     for (PolygonId q : contacts_[p]) recover = recover || move.movedPolygon[q];
     if (!recover) continue;
     contacts_[p] = std::move(contacts[p]);
+    // When only a partner moved, an element its old and new boxes both miss (and the element's
+    // subtree, in its bounds) keeps its cover: the other partners stayed where they were.
+    const auto partnerMayCover = [&](const GElement& e) {
+      const Box3 box = e.shape.bounds();
+      return std::any_of(move.boxes.begin(), move.boxes.end(),
+                         [&](const Box3& moved) { return moved.overlaps(box); });
+    };
     const auto recoverBelow = [&](auto& self, int index) -> void {
       GElement& e = elements_[index];
+      if (!everywhere && !partnerMayCover(e)) return;
       const GElement::Cover cover = freshCover(e);
       // A partly covered element's estimates read which of its points are covered, which a
       // moving partner may change while the kind of cover stays.
@@ -169,12 +184,6 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const Scen
   refitClusters(move.clusterChanged);
   refreshEmission({NodeRef::kCluster, 0});
   for (char c : move.clusterChanged) lastUpdate_.clustersChanged += c;
-  // The moved objects' boxes before and after, grown by what the ray caster may round.
-  const double margin = 4 * rays_->epsilon() + 1e-9 * scene_.extent.diagonalLength();
-  for (const ObjectMove& m : change.moves) {
-    move.boxes.push_back(m.boundsBefore.expanded(margin));
-    move.boxes.push_back(m.boundsAfter.expanded(margin));
-  }
   return move;
 }
 
@@ -187,7 +196,7 @@ std::vector<PolygonId> GalerkinRadiosity::withMovedPolygons(
     auto from = std::lower_bound(inherited.begin(), inherited.end(), begin);
     const auto to = std::lower_bound(from, inherited.end(), end);
     for (; from != to; ++from)
-      if (shaft.mayIntersect(scene_.polygons[*from].bounds)) entering.push_back(*from);
+      if (shaft.mayIntersect(polygonBounds_[*from])) entering.push_back(*from);
   }
   std::sort(entering.begin(), entering.end());
   std::vector<PolygonId> kept;
@@ -357,9 +366,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   };
   if (elements_.empty()) return rebuild("nothing was built");
   if (change.extentGrows) return rebuild("the scene's extent grew");
-  scene_ = scene.posed();
-  grid_ = &scene.grid();
-  rays_ = &scene.rays();
+  takeScene(scene);
   stats_.refineSeconds = stats_.solveSeconds = 0;
   stats_.iterations = 0;
   stats_.pointPairs = stats_.visibilityRays = stats_.unoccludedLinks = 0;
