@@ -102,7 +102,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   const Settling settling = settle(counters);
   stats_.refineSeconds += settling.refineSeconds;
   stats_.solveSeconds += settling.solveSeconds;
-  stats_.passes = 1 + settling.rounds + (settling.settled ? 1 : 0);
+  stats_.passes = 1 + settling.passes();
   stats_.settled = settling.settled;
   if (settling.dropped > 0) {
     compactPairs();
@@ -199,11 +199,12 @@ bool overlapInPlane(const ElementShape& a, const ElementShape& b, double slack) 
     for (int i = 0; i < shape->vertexCount; ++i) {
       const Vec3 edge = shape->vertices[(i + 1) % shape->vertexCount] - shape->vertices[i];
       const Vec3 axis = cross(shape->normal, edge);
-      if (!(length(axis) > 0)) continue;
+      const double axisLength = length(axis);
+      if (!(axisLength > 0)) continue;
       const auto extent = [&](const ElementShape& s) {
         double low = INFINITY, high = -INFINITY;
         for (int k = 0; k < s.vertexCount; ++k) {
-          const double t = dot(s.vertices[k], axis) / length(axis);
+          const double t = dot(s.vertices[k], axis) / axisLength;
           low = std::min(low, t);
           high = std::max(high, t);
         }

@@ -271,6 +271,15 @@ class GalerkinRadiosity {
                                          const std::vector<PolygonId>& among) const;
   double oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
                 double hiddenTransfer) const;
+  // The oracle on a stored pair's estimate.
+  double oracleOf(const GLink& link) const {
+    return oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer);
+  }
+  // Would a refinement pass split this link (its oracle past the threshold, an end splittable)?
+  bool asksToSplit(const GLink& link) const {
+    return link.active() && oracleOf(link) > threshold_ &&
+           endToSplit(link.receiver, link.source).has_value();
+  }
   // The interactions of receivers with sources still to estimate and refine, each with the
   // occluder candidates of the pair it comes from, and that pair's index (-1: none).
   struct RefineTask {
@@ -356,6 +365,7 @@ class GalerkinRadiosity {
     bool settled = false;
     long long added = 0, cleanedUp = 0, dropped = 0;
     double refineSeconds = 0, solveSeconds = 0;
+    int passes() const { return rounds + (settled ? 1 : 0); }  // the last changed nothing
   };
   Settling settle(Counters& counters, bool decideAnew = false);
   // An update's record of its passes (`passesBefore` run before settle) and the end of its

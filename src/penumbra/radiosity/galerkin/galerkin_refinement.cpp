@@ -360,21 +360,15 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
   for (int i = 0; i < count; ++i) {
     const GLink& link = links_[i];
     if (link.state == GLink::kPassive && cleanUpBelow >= 0) {
-      if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) >
-          cleanUpBelow)
-        continue;
+      if (oracleOf(link) > cleanUpBelow) continue;
       outcome.dropped += dropChildren(i);
       setState(links_[i], GLink::kActive);
       links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
       ++outcome.cleanedUp;
       continue;
     }
-    if (!link.active()) continue;
-    if (oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
-        threshold_)
-      continue;
+    if (!asksToSplit(link) || deferSplit()) continue;
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
-    if (!end || deferSplit()) continue;
     // Its children filter what its own estimate used (made again if it was not kept).
     const NodeRef r = link.receiver, s = link.source;
     const Candidates own =

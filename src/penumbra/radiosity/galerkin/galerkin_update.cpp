@@ -337,7 +337,7 @@ void GalerkinRadiosity::recordPasses(const Settling& settling, int passesBefore)
   lastUpdate_.dropped += settling.dropped;
   lastUpdate_.refineSeconds += settling.refineSeconds;
   lastUpdate_.solveSeconds += settling.solveSeconds;
-  stats_.passes = passesBefore + settling.rounds + (settling.settled ? 1 : 0);
+  stats_.passes = passesBefore + settling.passes();
   stats_.settled = settling.settled;
   if (!settling.settled && overBudget()) lastUpdate_.overBudget = true;
   frameBudgeted_ = false;

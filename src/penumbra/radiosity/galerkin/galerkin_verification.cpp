@@ -119,14 +119,8 @@ std::string GalerkinRadiosity::verifyLinks() const {
 GalerkinRadiosity::PendingRefinement GalerkinRadiosity::pendingRefinement() const {
   PendingRefinement pending;
   for (const GLink& link : links_) {
-    if (link.state != GLink::kActive && link.state != GLink::kPassive) continue;
-    const bool wants = oracle(link.receiver, link.source, link.meanTransfer, link.spread,
-                              link.hiddenTransfer) > threshold_ &&
-                       endToSplit(link.receiver, link.source).has_value();
-    if (link.state == GLink::kActive && wants) ++pending.splits;
-    if (link.state == GLink::kPassive &&
-        oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer) <=
-            threshold_ * kCleanUpShare)
+    if (asksToSplit(link)) ++pending.splits;
+    if (link.state == GLink::kPassive && oracleOf(link) <= threshold_ * kCleanUpShare)
       ++pending.cleanUps;
   }
   return pending;
