@@ -87,6 +87,7 @@ struct RadiosityCommandOptions {
   std::string solver = "hierarchical";  // or galerkin
   RadiosityOptions radiosity;
   double frameBudgetMs = 0;  // --update linespace: GalerkinOptions::frameBudgetSeconds
+  std::string shafts;        // all | managed (GalerkinOptions::shafts); empty: the solver's own
   std::string report;
 };
 int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common);

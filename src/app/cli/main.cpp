@@ -138,6 +138,11 @@ int main(int argc, char** argv) {
                    "--update linespace: milliseconds per update past which links are no longer "
                    "split (later updates split them); frame-rate control")
       ->check(kPositiveFinite);
+  radiosityCommand->add_option(
+      "--shafts", radiosity.shafts,
+      "all | managed (default for --solver galerkin): which pairs keep their shafts' occluder "
+      "candidates between updates; managed makes them on demand and ahead of moving objects, "
+      "and collects old ones (results are the same)");
   radiosityCommand->add_option("--report", radiosity.report, "Write statistics as JSON");
 
   ShadowsOptions shadows;

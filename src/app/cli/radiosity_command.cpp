@@ -66,10 +66,14 @@ nlohmann::json statsJson(const GalerkinStats& s) {
           {"settled", s.settled},
           {"refine_seconds", s.refineSeconds},
           {"solve_seconds", s.solveSeconds},
+          {"shafts", s.shafts},
+          {"shaft_bytes", s.shaftBytes},
+          {"all_shaft_bytes", s.allShaftBytes},
           {"memory_bytes",
            {{"clusters", s.clusterBytes},
             {"elements", s.elementBytes},
             {"links", s.linkBytes},
+            {"shafts", s.shaftBytes},
             {"total", s.totalBytes()}}}};
 }
 
@@ -91,12 +95,23 @@ nlohmann::json updateJson(const GalerkinUpdateStats& u) {
                       {"cleaned_up_by_radiosity_pass", u.laterCleanUps},
                       {"deferred_splits", u.deferredSplits},
                       {"over_budget", u.overBudget},
+                      {"shafts",
+                       {{"at_old_position", u.shaftsAtOld},
+                        {"at_new_position", u.shaftsAtNew},
+                        {"made_on_the_fly", u.shaftsMade},
+                        {"already_there", u.shaftsThere},
+                        {"prediction_tests", u.predictionTests},
+                        {"made_on_prediction", u.shaftsPredicted},
+                        {"collected", u.shaftsCollected},
+                        {"seconds", u.shaftSeconds},
+                        {"wait_seconds", u.shaftWaitSeconds}}},
                       {"stage_seconds",
                        {{"repose", u.reposeSeconds},
                         {"traverse", u.traverseSeconds},
                         {"walk", u.walkSeconds},
                         {"refine", u.refineSeconds},
-                        {"solve", u.solveSeconds}}}};
+                        {"solve", u.solveSeconds},
+                        {"shafts", u.shaftSeconds}}}};
   if (u.rebuilt) j["rebuild_reason"] = u.rebuildReason;
   return j;
 }
@@ -134,6 +149,8 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
   DynamicScene live(scene, range.first);
   GalerkinOptions solverOptions = galerkinOptions(options.radiosity, common);
   solverOptions.frameBudgetSeconds = options.frameBudgetMs / 1000;
+  if (options.shafts == "all") solverOptions.shafts = ShaftPolicy::kAll;
+  if (options.shafts == "managed") solverOptions.shafts = ShaftPolicy::kManaged;
   GalerkinRadiosity solver(solverOptions);
   nlohmann::json frames = nlohmann::json::array();
   Progress progress("radiosity (galerkin)", range.last - range.first + 1, common.quiet);
@@ -197,6 +214,8 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
       std::fprintf(stderr, "frame %d: %.3f s, %lld links, %lld elements (%lld leaves), %.1f MiB",
                    frame, s.totalSeconds, s.activeLinks, s.elements, s.leaves,
                    double(s.totalBytes()) / (1 << 20));
+      std::fprintf(stderr, ", shafts %.2f MiB of %.2f MiB", double(s.shaftBytes) / (1 << 20),
+                   double(s.allShaftBytes) / (1 << 20));
       if (incremental && frame != range.first) {
         const GalerkinUpdateStats& u = solver.lastUpdate();
         std::fprintf(stderr, "; %lld shaft tests, %lld pairs met, %lld split, %lld cleaned up",
@@ -212,6 +231,8 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
     nlohmann::json report = statsJson(solver.stats());
     report["method"] = "galerkin";
     report["update"] = options.update;
+    report["shaft_policy"] = solverOptions.shafts == ShaftPolicy::kAll ? "all" : "managed";
+    report["shaft_policy"] = solverOptions.shafts == ShaftPolicy::kAll ? "all" : "managed";
     report["tolerance"] = options.radiosity.tolerance;
     writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
   }
@@ -228,6 +249,12 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
     throw UsageError("--update " + options.update +
                      " is not available for --solver hierarchical (available: full; the "
                      "line-space update is --solver galerkin's)");
+  if (!options.shafts.empty() && options.shafts != "all" && options.shafts != "managed")
+    throw UsageError("--shafts " + options.shafts + " is not available (available: all, managed)");
+  if (options.solver == "hierarchical" && options.shafts == "managed")
+    throw UsageError(
+        "--shafts managed is not available for --solver hierarchical (it has no line-space "
+        "update; available: all)");
   if (options.frameBudgetMs > 0 && options.update != "linespace")
     throw UsageError(
         "--frame-budget needs --update linespace (verify compares a hierarchy "
@@ -269,6 +296,7 @@ int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& co
     nlohmann::json report = statsJson(s);
     report["method"] = "radiosity";
     report["update"] = options.update;
+    report["shaft_policy"] = "all";
     report["tolerance"] = options.radiosity.tolerance;
     writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
   }

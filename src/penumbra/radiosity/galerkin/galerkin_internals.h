@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -41,7 +42,11 @@ struct GalerkinRadiosity::Move {
   std::vector<char> elementChanged, clusterChanged;  // re-posed, re-covered, refitted
   std::vector<char> movedPolygon;
   std::vector<std::pair<PolygonId, PolygonId>> ranges;  // the moved objects' polygons
-  std::vector<Box3> boxes;  // the moved objects' boxes before and after, grown
+  std::vector<Box3> boxes;  // the moved objects' boxes before and after, grown (in that order)
+  // The bounds at the last pose of what the move changed (the shafts the pairs' old candidates
+  // came from): the re-posed elements', and every cluster's.
+  std::unordered_map<int, Box3> elementBoundsBefore;
+  std::vector<Box3> clusterBoundsBefore;
   bool endChanged(NodeRef n) const {
     return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;
   }

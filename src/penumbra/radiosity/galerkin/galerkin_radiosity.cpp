@@ -60,6 +60,7 @@ void GalerkinRadiosity::takeScene(const DynamicScene& scene) {
 }
 
 void GalerkinRadiosity::build(const DynamicScene& scene) {
+  awaitShaftWork();
   const Stopwatch total;
   clear();
   takeScene(scene);
@@ -108,6 +109,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
     compactPairs();
     compactElements();
   }
+  if (managed()) releaseShafts();  // the root pair's alone: the moves make what they need
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
   stats_.unoccludedLinks = counters.unoccludedLinks;
@@ -116,6 +118,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
 }
 
 const GalerkinStats& GalerkinRadiosity::stats() const {
+  awaitShaftWork();
   if (!statsCounted_) countStats();
   return stats_;
 }
@@ -134,14 +137,8 @@ void GalerkinRadiosity::countStats() const {
   stats_.clusterBytes = clusters_.capacity() * sizeof(GCluster);
   for (const GCluster& c : clusters_)
     stats_.clusterBytes += c.structure.children.capacity() * sizeof(NodeRef);
-  // Every pair, and the candidate lists, each counted once (pairs share their parent's list
-  // when it is all of theirs).
   stats_.linkBytes = links_.capacity() * sizeof(GLink);
-  std::unordered_set<const void*> counted;
-  for (const GLink& l : links_)
-    if (l.candidates && counted.insert(l.candidates.get()).second)
-      stats_.linkBytes += l.candidates->capacity() * sizeof(PolygonId) +
-                          sizeof(std::vector<PolygonId>) + 2 * sizeof(void*);  // + its block
+  countShafts();
 }
 
 void GalerkinRadiosity::buildHierarchy(const Scene& scene, const std::vector<Element>& roots) {

@@ -31,6 +31,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "penumbra/base/stopwatch.h"
@@ -47,6 +48,41 @@ struct Scene;
 class RayCaster;
 struct SceneChange;
 class UniformGrid;
+
+// Which node pairs keep their shaft's occluder candidates (the polygons the shaft may hold,
+// which a move edits and a pair's children filter) between updates. The shaft itself, box to
+// box, is made from the ends' bounds whenever it is tested; the candidates are what costs memory.
+enum class ShaftPolicy {
+  kAll,      // every estimated pair keeps its list (Drettakis & Sillion's line-space hierarchy)
+  kManaged,  // only where moves need them (Schöffel & Pomi 1999; galerkin_shafts.cpp)
+};
+
+// Dynamic shaft management (Schöffel & Pomi 1999): after a build only the root pair keeps its
+// candidates; an update makes a met pair's list when it needs one (from its parent's, which the
+// walk has just made), lists are made ahead of each moving object on its predicted boxes, and
+// lists no update has used for a while are collected. Results never depend on any of it: a
+// missing list is made again exactly as it was (verifyLinks), only the cost changes.
+struct ShaftManagement {
+  // Movement prediction: each object the update moved is extrapolated `predictedFrames` moves
+  // ahead from its last three poses (constant acceleration), its box scaled by `predictionScale`
+  // about its centre (the paper's s in (1, 1.2]), and every pair whose shaft meets such a box
+  // gets its list made now, not during the next update.
+  bool prediction = true;
+  int predictedFrames = 2;
+  double predictionScale = 1.1;
+  // Garbage collection once the lists use more than `collectAbove` bytes (the paper's
+  // T_shafts): a list no update, walk or prediction has used in the last `minAge` updates (the
+  // paper's T_min) is released.
+  std::size_t collectAbove = 0;
+  int minAge = 2;
+  // Which lists outlive the update that used them: making a list again tests each of its
+  // parent's candidates, keeping it costs its own, so a list is kept only when it holds at most
+  // this share of its parent's (1: every list; 0: only the empty ones, which cost nothing).
+  double keepShare = 1;
+  // Prediction and collection on a second thread after each update, while the caller draws or
+  // waits for input; the next call that reads or changes the pairs waits for it first.
+  bool workerThread = true;
+};
 
 struct GalerkinOptions {
   // The power oracle's threshold, relative to the power the scene emits.
@@ -77,6 +113,8 @@ struct GalerkinOptions {
   double frameBudgetSeconds = 0;
   // Worker threads for link estimation (0: all cores); the result does not depend on it.
   int threads = 1;
+  ShaftPolicy shafts = ShaftPolicy::kManaged;
+  ShaftManagement management;  // for ShaftPolicy::kManaged
 };
 
 // The Galerkin options a front end's radiosity options ask for: the tolerance, the budgets, the
@@ -98,7 +136,12 @@ struct GalerkinStats {
   std::size_t elementBytes = 0;   // memory in use (vector capacities)
   std::size_t clusterBytes = 0;
   std::size_t linkBytes = 0;
-  std::size_t totalBytes() const { return elementBytes + clusterBytes + linkBytes; }
+  // The occluder candidate lists held (each shared list once) and what holding every estimated
+  // pair's list would take (ShaftPolicy::kAll), by the bytes each list's ids and its block use.
+  long long shafts = 0;
+  std::size_t shaftBytes = 0;
+  std::size_t allShaftBytes = 0;
+  std::size_t totalBytes() const { return elementBytes + clusterBytes + linkBytes + shaftBytes; }
   double refineSeconds = 0;
   double solveSeconds = 0;
   double totalSeconds = 0;
@@ -126,10 +169,21 @@ struct GalerkinUpdateStats {
   long long laterCleanUps = 0;     // split pairs those passes made links again
   long long deferredSplits = 0;    // splits the frame budget left to later updates
   bool overBudget = false;         // the frame budget ran out (frameBudgetSeconds)
-  double reposeSeconds = 0;        // elements, contacts, cluster boxes, emission lobes
-  double traverseSeconds = 0;      // the walk and the re-estimates
-  double walkSeconds = 0;          // of it, deciding which pairs are met (shaft tests)
-  double refineSeconds = 0;        // new subtrees, and the passes after the first solve
+  // Shaft management (Schöffel & Pomi's Table 2); the prediction's and collection's figures are
+  // those of the work after this update, for the next (ShaftManagement::workerThread).
+  long long shaftsAtOld = 0;      // tested pairs whose shaft a moved object's old box meets
+  long long shaftsAtNew = 0;      // ... its new box
+  long long shaftsMade = 0;       // met pairs whose candidates were made on the fly
+  long long shaftsThere = 0;      // met pairs whose candidates were kept from before
+  long long predictionTests = 0;  // shafts tested against the predicted boxes
+  long long shaftsPredicted = 0;  // lists made ahead on the predicted boxes
+  long long shaftsCollected = 0;  // lists released by garbage collection
+  double shaftSeconds = 0;        // prediction and collection (on the worker thread if any)
+  double shaftWaitSeconds = 0;    // this update waited for the last one's shaft work
+  double reposeSeconds = 0;       // elements, contacts, cluster boxes, emission lobes
+  double traverseSeconds = 0;     // the walk and the re-estimates
+  double walkSeconds = 0;         // of it, deciding which pairs are met (shaft tests)
+  double refineSeconds = 0;       // new subtrees, and the passes after the first solve
   double solveSeconds = 0;
   double totalSeconds = 0;
 };
@@ -137,6 +191,10 @@ struct GalerkinUpdateStats {
 class GalerkinRadiosity {
  public:
   explicit GalerkinRadiosity(const GalerkinOptions& options = {});
+  ~GalerkinRadiosity();  // waits for the shaft work
+  // The shaft worker holds `this`: neither copied nor moved.
+  GalerkinRadiosity(const GalerkinRadiosity&) = delete;
+  GalerkinRadiosity& operator=(const GalerkinRadiosity&) = delete;
 
   // Builds the hierarchy at the scene's current pose and solves (the scene's grid and ray
   // caster are used during the call only).
@@ -150,7 +208,10 @@ class GalerkinRadiosity {
   // cluster boxes, element shapes and covers recomputed from the scene) and compares each with
   // what is stored, bit for bit: empty when all agree, else the first difference in words.
   std::string verifyLinks() const;
-  const GalerkinUpdateStats& lastUpdate() const { return lastUpdate_; }
+  const GalerkinUpdateStats& lastUpdate() const {
+    awaitShaftWork();
+    return lastUpdate_;
+  }
   // Frame-rate control from the next update on (GalerkinOptions::frameBudgetSeconds; 0: none):
   // an interactive front end can tighten it while an object is dragged, and lift it after.
   void setFrameBudget(double seconds) { options_.frameBudgetSeconds = seconds; }
@@ -249,18 +310,24 @@ class GalerkinRadiosity {
     int childCount = 0;
     // The occluder candidates its estimate used (kSelf: its parent's), which its children's
     // are filtered from; a move edits them (Drettakis & Sillion's shafts, here as their
-    // contents). A link keeps them only when few (keptForLink).
+    // contents). Under ShaftPolicy::kManaged they may be absent: made again when needed.
     Candidates candidates;
+    std::uint32_t candidateCount = 0;  // how many there are, kept or not
+    std::uint32_t shaftUsed = 0;       // the update that last made or used them (their age)
     bool active() const { return state == kActive; }
   };
   const std::vector<GElement>& elements() const { return elements_; }
-  const std::vector<GLink>& links() const { return links_; }
+  const std::vector<GLink>& links() const {
+    awaitShaftWork();
+    return links_;
+  }
 
  private:
   struct Estimate;
   struct Counters;
   void clear();
   void countStats() const;
+  void countShafts() const;  // GalerkinStats' shafts, shaftBytes, allShaftBytes
   // Can any light leave s and reach r (their fronts face each other somewhere)?
   bool canExchange(NodeRef r, NodeRef s) const;
   struct VisibilityReuse;
@@ -302,13 +369,11 @@ class GalerkinRadiosity {
   // A pair's candidates (a subset of its parent's), stored once: the parent's own list when
   // they are all of it, one shared empty list when none.
   static Candidates shared(std::vector<PolygonId> own, const Candidates& inherited);
-  // What a link (an active pair) keeps of its candidates: a long list costs more memory than
-  // making it again when a move meets the link (a 10,000-polygon room kept 270 MB of them), so
-  // only its parent's shared list or at most kMostCandidatesKept; a split pair keeps its own.
-  static constexpr size_t kMostCandidatesKept = 64;
-  static Candidates keptForLink(const Candidates& own, const Candidates& inherited);
-  // The candidates a pair's children filter: its own stored ones.
-  const Candidates& candidatesOf(int pair) const { return links_[pair].candidates; }
+  // A pair keeps `own`, its estimate's candidates, and their count.
+  void keepCandidates(GLink& link, const Candidates& own) const;
+  // A pair's candidates, made from its parent's (recursively, the root's always kept) when they
+  // are absent; stamped as used by this update. On one thread only.
+  const Candidates& candidatesFor(int pair);
   // Removes the dropped pairs from storage (every index changes).
   void compactPairs();
   // Merges back every split whose subtree no live pair names (a move or a clean-up left it
@@ -331,7 +396,12 @@ class GalerkinRadiosity {
                                            const std::vector<PolygonId>& old,
                                            const std::vector<PolygonId>& inherited) const;
   void setState(GLink& link, GLink::State state);  // keeps linkCount_
-  bool reposeMovedObjects(const SceneChange& change, std::vector<char>& elementChanged);
+  // The static polygons (none of the move's) of `among` that the pair's shaft admitted at the
+  // last pose: its old list's part a move cannot change, when the list itself was not kept.
+  std::vector<PolygonId> staticCandidatesBefore(const Move& move, NodeRef r, NodeRef s,
+                                                const std::vector<PolygonId>& among) const;
+  Box3 boundsBefore(const Move& move, NodeRef n) const;
+  bool reposeMovedObjects(const SceneChange& change, Move& move);
   // A cluster's box and area from its root elements, summed as the builder sums them.
   struct ClusterExtent {
     Box3 bounds;
@@ -410,6 +480,22 @@ class GalerkinRadiosity {
   // GElement::coveredPoints for an element whose cover is set.
   std::uint8_t coveredPointsOf(const GElement& e) const;
 
+  // Dynamic shaft management (galerkin_shafts.cpp). After an update: the moved objects' boxes
+  // predicted for the next moves (ShaftManagement), from their recorded poses.
+  void recordPoses(const SceneChange& change);
+  std::vector<Box3> predictedBoxes(const SceneChange& change) const;
+  // Makes the lists of the pairs whose shafts the boxes meet, then collects old lists; on the
+  // worker thread when there is one.
+  void manageShafts(std::vector<Box3> predicted);
+  // Is a pair's list worth keeping beyond the update that used it (ShaftManagement::keepShare)?
+  bool worthKeeping(const GLink& link) const;
+  void startShaftWork(const SceneChange& change);
+  // Waits for the worker's shaft work, if any (every call that reads or changes pairs does).
+  void awaitShaftWork() const;
+  // Releases every list but the root pair's (a managed build's start).
+  void releaseShafts();
+  bool managed() const { return options_.shafts == ShaftPolicy::kManaged; }
+
   // Has the update run past its frame budget? (Never during a build.)
   bool overBudget() const;
   // A split the oracle asks for, left to a later update when over budget (counted).
@@ -438,6 +524,10 @@ class GalerkinRadiosity {
   mutable GalerkinStats stats_;
   mutable bool statsCounted_ = false;
   long long droppedPairs_ = 0;  // dropped pairs still in storage
+  std::uint32_t serial_ = 0;    // updates since the build (GLink::shaftUsed)
+  // Each object's box at its last poses (the newest last, at most three): movement prediction.
+  std::vector<std::vector<Box3>> poses_;
+  mutable std::thread shaftWorker_;
 };
 
 }  // namespace penumbra

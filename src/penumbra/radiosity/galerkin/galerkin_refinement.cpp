@@ -60,18 +60,34 @@ void GalerkinRadiosity::queueChildren(NodeRef r, NodeRef s, NodeRef end,
                             : RefineTask{r, child, candidates, parent});
 }
 
-GalerkinRadiosity::Candidates GalerkinRadiosity::keptForLink(const Candidates& own,
-                                                             const Candidates& inherited) {
-  return own == inherited || own->size() <= kMostCandidatesKept ? own : Candidates();
-}
-
 GalerkinRadiosity::Candidates GalerkinRadiosity::shared(std::vector<PolygonId> own,
                                                         const Candidates& inherited) {
   // A subset of the same size is the same list; and most deep pairs' lists are empty.
   static const Candidates kNone = std::make_shared<const std::vector<PolygonId>>();
   if (own.size() == inherited->size()) return inherited;
   if (own.empty()) return kNone;
-  return std::make_shared<const std::vector<PolygonId>>(std::move(own));
+  // Copied to its size: grown one by one, the vector holds up to twice what it uses.
+  return std::make_shared<const std::vector<PolygonId>>(own.begin(), own.end());
+}
+
+void GalerkinRadiosity::keepCandidates(GLink& link, const Candidates& own) const {
+  link.candidates = own;
+  link.candidateCount = std::uint32_t(own->size());
+  link.shaftUsed = serial_;
+}
+
+const GalerkinRadiosity::Candidates& GalerkinRadiosity::candidatesFor(int pair) {
+  GLink& link = links_[pair];
+  if (!link.candidates) {
+    const Candidates& inherited = candidatesFor(link.parent);
+    GLink& made = links_[pair];
+    made.candidates =
+        made.state == GLink::kSelf
+            ? inherited
+            : shared(shaftCandidates(made.receiver, made.source, *inherited), inherited);
+  }
+  links_[pair].shaftUsed = serial_;
+  return links_[pair].candidates;
 }
 
 void GalerkinRadiosity::storeEstimate(GLink& link, const Estimate& e) {
@@ -291,7 +307,7 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
       }
       if (r == s) {  // a cluster with itself: every pair of its children
         const int pair = appendPair(task, GLink::kSelf, nullptr);
-        links_[pair].candidates = task.candidates;
+        keepCandidates(links_[pair], task.candidates);
         const std::vector<NodeRef> parts = children(r);
         for (NodeRef a : parts)
           for (NodeRef b : parts) next.push_back({a, b, task.candidates, pair});
@@ -302,12 +318,11 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
         if (const std::optional<NodeRef> end = endToSplit(r, s); end && !deferSplit()) {
           const int pair = appendPair(task, GLink::kPassive, &e);
           links_[pair].splitReceiver = *end == r;
-          links_[pair].candidates = out.own;
+          keepCandidates(links_[pair], out.own);
           queueChildren(r, s, *end, out.own, pair, next);
           continue;
         }
-      links_[appendPair(task, GLink::kActive, &e)].candidates =
-          keptForLink(out.own, task.candidates);
+      keepCandidates(links_[appendPair(task, GLink::kActive, &e)], out.own);
     }
     wave = std::move(next);
   }
@@ -363,7 +378,6 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
       if (oracleOf(link) > cleanUpBelow) continue;
       outcome.dropped += dropChildren(i);
       setState(links_[i], GLink::kActive);
-      links_[i].candidates = keptForLink(links_[i].candidates, candidatesOf(links_[i].parent));
       ++outcome.cleanedUp;
       continue;
     }
@@ -371,14 +385,10 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
     // Its children filter what its own estimate used (made again if it was not kept).
     const NodeRef r = link.receiver, s = link.source;
-    const Candidates own =
-        link.candidates
-            ? link.candidates
-            : shared(shaftCandidates(r, s, *candidatesOf(link.parent)), candidatesOf(link.parent));
+    const Candidates own = candidatesFor(i);
     GLink& split = links_[i];
     split.state = GLink::kPassive;
     split.splitReceiver = *end == r;
-    split.candidates = own;
     queueChildren(r, s, *end, own, i, wave);
   }
   if (wave.empty()) return outcome;

@@ -30,13 +30,6 @@ namespace penumbra {
 
 namespace {
 
-// Does any of the boxes lie in the shaft between a and b?
-bool shaftMeets(const Box3& a, const Box3& b, const std::vector<Box3>& boxes) {
-  const Shaft shaft(a, b);
-  return std::any_of(boxes.begin(), boxes.end(),
-                     [&](const Box3& box) { return shaft.mayIntersect(box); });
-}
-
 // Do two candidate lists (ascending: filtered from the root's) differ in a polygon that did not
 // move?
 bool staticPartDiffers(const std::vector<PolygonId>& a, const std::vector<PolygonId>& b,
@@ -56,14 +49,18 @@ bool staticPartDiffers(const std::vector<PolygonId>& a, const std::vector<Polygo
 
 }  // namespace
 
-bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change,
-                                           std::vector<char>& elementChanged) {
+bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change, Move& move) {
+  std::vector<char>& elementChanged = move.elementChanged;
+  const auto remember = [&](int index) {
+    move.elementBoundsBefore.emplace(index, elements_[index].shape.bounds());
+  };
   // A moved element's descendants take their shapes from it, exactly as a first split would.
   const auto reposeBelow = [&](auto& self, int index) -> void {
     const int first = elements_[index].firstChild;
     if (first < 0) return;
     const auto childVertices = elements_[index].shape.childVertices();
     for (int c = 0; c < 4; ++c) {
+      remember(first + c);
       shapeChild(elements_[index], childVertices[c], elements_[first + c]);
       elementChanged[first + c] = 1;
       ++lastUpdate_.movedElements;
@@ -80,6 +77,7 @@ bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change,
       for (size_t k = 0; k < roots.size(); ++k) {
         GElement& e = elements_[ids[k]];
         if (roots[k].vertexCount != e.shape.vertexCount) return false;
+        remember(ids[k]);
         e.shape = roots[k];
         prepare(e);
         e.area = roots[k].area;
@@ -131,7 +129,7 @@ void GalerkinRadiosity::refreshEmission(NodeRef n) {
 std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const SceneChange& change) {
   Move move;
   move.elementChanged.assign(elements_.size(), 0);
-  if (!reposeMovedObjects(change, move.elementChanged)) return std::nullopt;
+  if (!reposeMovedObjects(change, move)) return std::nullopt;
   move.movedPolygon.assign(scene_.polygons.size(), 0);
   for (const ObjectMove& m : change.moves) {
     const PolygonId begin = scene_.objectFirstPolygon[m.object];
@@ -181,6 +179,9 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const Scen
     for (int root : polygonRoots_[p]) recoverBelow(recoverBelow, root);
   }
   move.clusterChanged.assign(clusters_.size(), 0);
+  move.clusterBoundsBefore.reserve(clusters_.size());
+  for (const GCluster& cluster : clusters_)
+    move.clusterBoundsBefore.push_back(cluster.structure.bounds);
   refitClusters(move.clusterChanged);
   refreshEmission({NodeRef::kCluster, 0});
   for (char c : move.clusterChanged) lastUpdate_.clustersChanged += c;
@@ -208,6 +209,26 @@ std::vector<PolygonId> GalerkinRadiosity::withMovedPolygons(
   return merged;
 }
 
+Box3 GalerkinRadiosity::boundsBefore(const Move& move, NodeRef n) const {
+  if (n.isCluster()) return move.clusterBoundsBefore[n.index];
+  const auto before = move.elementBoundsBefore.find(n.index);
+  return before != move.elementBoundsBefore.end() ? before->second : bounds(n);
+}
+
+std::vector<PolygonId> GalerkinRadiosity::staticCandidatesBefore(
+    const Move& move, NodeRef r, NodeRef s, const std::vector<PolygonId>& among) const {
+  // shaftCandidates at the last pose, without the moved polygons (whose old bounds are gone).
+  const Shaft shaft(boundsBefore(move, r), boundsBefore(move, s));
+  const PolygonId ownR = r.isElement() ? elements_[r.index].polygon : PolygonId(-1);
+  const PolygonId ownS = s.isElement() ? elements_[s.index].polygon : PolygonId(-1);
+  std::vector<PolygonId> candidates;
+  for (PolygonId id : among)
+    if (!move.movedPolygon[id] && id != ownR && id != ownS &&
+        shaft.mayIntersect(polygonBounds_[id]))
+      candidates.push_back(id);
+  return candidates;
+}
+
 void GalerkinRadiosity::setState(GLink& link, GLink::State state) {
   const auto counts = [](GLink::State s) {
     return s == GLink::kActive || s == GLink::kPassive ? 1 : 0;
@@ -220,17 +241,24 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
                                   std::vector<RefineTask>& fresh) {
   struct Outcome {
     bool exchanges = false;
+    bool hadCandidates = false;  // its list was kept from before (not made on the fly)
     Candidates own;
+    // A split pair's candidates before the move, what its children's were filtered from: its
+    // kept list, or (not kept, ShaftPolicy::kManaged) their static part made again.
+    Candidates before;
     Estimate estimate;
     Counters counters;
   };
-  // A pair to visit, and whether its parent's candidates changed (then its own may have: the
-  // conservative shaft test can admit a polygon its parent's shaft rejected).
+  // A pair to visit; whether its parent's candidates changed (then its own may have: the
+  // conservative shaft test can admit a polygon its parent's shaft rejected); and the parent's
+  // candidates before the move (at least their static part).
   struct Visit {
     int pair = 0;
     bool inheritedChanged = false;
+    Candidates inheritedBefore;
   };
-  std::vector<Visit> wave{{0, false}};
+  std::vector<Visit> wave{{0, false, links_[0].candidates}};
+  const size_t movedObjects = move.boxes.size() / 2;
   Stopwatch walk;
   while (!wave.empty()) {
     walk.lap();
@@ -244,8 +272,19 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
         continue;
       }
       ++lastUpdate_.shaftTests;
-      if (shaftMeets(bounds(link.receiver), bounds(link.source), move.boxes)) met.push_back(visit);
+      const Shaft shaft(bounds(link.receiver), bounds(link.source));
+      bool atOld = false, atNew = false;
+      for (size_t m = 0; m < movedObjects; ++m) {
+        atOld = atOld || shaft.mayIntersect(move.boxes[2 * m]);
+        atNew = atNew || shaft.mayIntersect(move.boxes[2 * m + 1]);
+      }
+      lastUpdate_.shaftsAtOld += atOld;
+      lastUpdate_.shaftsAtNew += atNew;
+      if (atOld || atNew) met.push_back(visit);
     }
+    // A met pair's parent was met too and holds its new candidates (the root's are always kept).
+    for (const Visit& visit : met)
+      if (links_[visit.pair].parent >= 0) candidatesFor(links_[visit.pair].parent);
     lastUpdate_.walkSeconds += walk.lap();
     std::vector<Outcome> outcomes(met.size());
     parallelFor((long long)met.size(), options_.threads, [&](long long m) {
@@ -259,12 +298,20 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       const bool kept = !met[m].inheritedChanged && !move.endChanged(link.receiver) &&
                         !move.endChanged(link.source);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
-      const Candidates& inherited = candidatesOf(link.parent);
+      const Candidates& inherited = links_[link.parent].candidates;
+      out.hadCandidates = link.candidates != nullptr;
       out.own = shared(
           kept && estimated && link.candidates
               ? withMovedPolygons(move, link.receiver, link.source, *link.candidates, *inherited)
               : shaftCandidates(link.receiver, link.source, *inherited),
           inherited);
+      // What its children's candidates came from, to tell whether they changed (not needed
+      // when kept: then only moved polygons changed in it).
+      if (link.state == GLink::kPassive && !kept)
+        out.before = link.candidates
+                         ? link.candidates
+                         : std::make_shared<const std::vector<PolygonId>>(staticCandidatesBefore(
+                               move, link.receiver, link.source, *met[m].inheritedBefore));
       const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &move.boxes};
       out.estimate = estimate(link.receiver, link.source, *out.own, out.counters,
                               kept && estimated ? &reuse : nullptr);
@@ -279,44 +326,50 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       counters.reusedRays += out.counters.reusedRays;
       ++lastUpdate_.met;
       const NodeRef r = links_[i].receiver, s = links_[i].source;
-      const auto visitChildren = [&](bool candidatesChanged) {
+      const auto visitChildren = [&](bool candidatesChanged, const Candidates& before) {
         for (int c = links_[i].firstChild; c < links_[i].firstChild + links_[i].childCount; ++c)
-          next.push_back({c, candidatesChanged});
+          next.push_back({c, candidatesChanged, before});
       };
       if (!out.exchanges) {
         if (links_[i].state == GLink::kPassive) lastUpdate_.dropped += dropChildren(i);
         setState(links_[i], GLink::kNone);
         links_[i].candidates.reset();
+        links_[i].candidateCount = 0;
         continue;
       }
       if (r == s) {  // a cluster with itself: its children's pairs are fixed, its candidates
                      // its parent's
-        if (links_[i].parent >= 0) links_[i].candidates = candidatesOf(links_[i].parent);
-        visitChildren(met[m].inheritedChanged);
+        if (links_[i].parent >= 0) keepCandidates(links_[i], links_[links_[i].parent].candidates);
+        visitChildren(met[m].inheritedChanged, met[m].inheritedBefore);
         continue;
       }
       ++lastUpdate_.reestimated;
+      ++(out.hadCandidates ? lastUpdate_.shaftsThere : lastUpdate_.shaftsMade);
       const Estimate& e = out.estimate;
       std::optional<NodeRef> end;
       if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
         end = endToSplit(r, s);
       GLink& link = links_[i];
       storeEstimate(link, e);
+      // The same list as before stays the same block: its children not met share it still.
+      if (link.candidates && out.own != link.candidates && *out.own == *link.candidates)
+        out.own = link.candidates;
+      keepCandidates(link, out.own);
       const bool splitAlike =
           end && link.state == GLink::kPassive && link.splitReceiver == (*end == r);
       if (end && !splitAlike && deferSplit()) end.reset();  // a link until a later update
       if (splitAlike) {
         // Still split the same way: walk on. Its children's candidates can change beyond the
-        // moved polygons (which their own shafts filter) only if its own gained or lost another.
-        const bool changed =
-            !link.candidates || staticPartDiffers(*link.candidates, *out.own, move.movedPolygon);
-        link.candidates = out.own;
-        visitChildren(changed);
+        // moved polygons (which their own shafts filter) only if its own gained or lost another;
+        // with its ends and inherited candidates as they were, only moved polygons changed.
+        if (out.before)
+          visitChildren(staticPartDiffers(*out.before, *out.own, move.movedPolygon), out.before);
+        else
+          visitChildren(false, out.own);
       } else if (end) {  // split anew: a subtree for refinement below
         lastUpdate_.dropped += dropChildren(i);
         setState(links_[i], GLink::kPassive);
         links_[i].splitReceiver = *end == r;
-        links_[i].candidates = out.own;
         queueChildren(r, s, *end, out.own, i, fresh);
         ++lastUpdate_.refined;
       } else {
@@ -325,7 +378,6 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
           ++lastUpdate_.cleanedUp;
         }
         setState(links_[i], GLink::kActive);
-        links_[i].candidates = keptForLink(out.own, candidatesOf(links_[i].parent));
       }
     }
     wave = std::move(next);
@@ -354,15 +406,20 @@ void GalerkinRadiosity::compactIfWorthIt() {
 
 void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& change) {
   const Stopwatch total;
+  awaitShaftWork();  // the last update's shaft work, if still running
   Stopwatch stage;
   lastUpdate_ = {};
+  lastUpdate_.shaftWaitSeconds = stage.lap();
   frameClock_ = total;
+  ++serial_;
+  recordPoses(change);
   const auto rebuild = [&](const char* reason) {
     frameBudgeted_ = false;
     build(scene);
     lastUpdate_.rebuilt = true;
     lastUpdate_.rebuildReason = reason;
     lastUpdate_.totalSeconds = total.seconds();
+    startShaftWork(change);
   };
   if (elements_.empty()) return rebuild("nothing was built");
   if (change.extentGrows) return rebuild("the scene's extent grew");
@@ -390,6 +447,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       statsCounted_ = false;
     }
     stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
+    startShaftWork(change);
     return;
   }
 
@@ -432,6 +490,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   stats_.solveSeconds = lastUpdate_.solveSeconds;
   statsCounted_ = false;
   stats_.totalSeconds = lastUpdate_.totalSeconds = total.seconds();
+  startShaftWork(change);
 }
 
 }  // namespace penumbra

@@ -24,6 +24,7 @@ std::string describe(NodeRef n) {
 }  // namespace
 
 std::string GalerkinRadiosity::verifyLinks() const {
+  awaitShaftWork();
   std::ostringstream difference;
   // The hierarchy: element shapes from the polygons down, covers, cluster boxes and areas.
   std::vector<std::vector<int>> freshRoots;
@@ -81,7 +82,7 @@ std::string GalerkinRadiosity::verifyLinks() const {
       return pair + (exchanges ? ": exchanges light, stored as not" : ": cannot exchange light");
     if (link.state == GLink::kNone) continue;
     if (link.state == GLink::kSelf) {
-      if (!link.candidates || *link.candidates != *inherited)
+      if ((link.candidates || !managed()) && (!link.candidates || *link.candidates != *inherited))
         return pair + ": a cluster's own pair with stale candidates";
       candidates[i] = inherited;
     } else {
@@ -102,10 +103,10 @@ std::string GalerkinRadiosity::verifyLinks() const {
                    << own->size() << " candidates)";
         return difference.str();
       }
-      // A link keeps its candidates only when they are few (GalerkinRadiosity::keptForLink).
-      if ((link.candidates || link.state == GLink::kPassive) &&
-          (!link.candidates || *link.candidates != *own))
+      // Every estimated pair keeps its list under ShaftPolicy::kAll; a managed one may not.
+      if ((link.candidates || !managed()) && (!link.candidates || *link.candidates != *own))
         return pair + ": stale candidates";
+      if (link.candidateCount != own->size()) return pair + ": a stale candidate count";
       candidates[i] = own;
     }
     for (int c = link.firstChild; c < link.firstChild + link.childCount; ++c) {
@@ -117,6 +118,7 @@ std::string GalerkinRadiosity::verifyLinks() const {
 }
 
 GalerkinRadiosity::PendingRefinement GalerkinRadiosity::pendingRefinement() const {
+  awaitShaftWork();
   PendingRefinement pending;
   for (const GLink& link : links_) {
     if (asksToSplit(link)) ++pending.splits;
