@@ -712,6 +712,46 @@ TEST(Cli, RadiosityFrameBudgetDefersSplits) {
   }
 }
 
+// --shafts all|managed (DESIGN §6): the same solution, and each frame reports the shaft bytes
+// held and what every pair's would take; managed holds fewer. Other values, and managed shafts
+// for the solver without a line-space update, are usage errors.
+TEST(Cli, RadiosityShaftPoliciesReportTheirBytes) {
+  test::TempDir dir;
+  const std::string scene =
+      std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json";
+  nlohmann::json reports[2];
+  const char* policies[2] = {"all", "managed"};
+  for (int p = 0; p < 2; ++p) {
+    const std::string path = dir.path(std::string(policies[p]) + ".json");
+    const RunResult r = runPenumbra("radiosity " + scene +
+                                    " --solver galerkin --update verify --tolerance 3e-3 "
+                                    "--shafts " +
+                                    policies[p] + " --report " + path);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    reports[p] = nlohmann::json::parse(std::ifstream(path));
+    EXPECT_EQ(reports[p]["shaft_policy"], policies[p]);
+  }
+  ASSERT_EQ(reports[0]["frames"].size(), reports[1]["frames"].size());
+  for (size_t f = 0; f < reports[0]["frames"].size(); ++f) {
+    const nlohmann::json &all = reports[0]["frames"][f], &managed = reports[1]["frames"][f];
+    EXPECT_EQ(all["active_links"], managed["active_links"]);
+    EXPECT_EQ(all["absorbed_over_emitted"], managed["absorbed_over_emitted"]);
+    EXPECT_EQ(all["all_shaft_bytes"], managed["all_shaft_bytes"]);
+    EXPECT_GT(managed["all_shaft_bytes"].get<long long>(), 0);
+    EXPECT_LT(managed["shaft_bytes"].get<long long>(), all["shaft_bytes"].get<long long>());
+    if (f > 0) {
+      EXPECT_TRUE(managed["update"]["shafts"].contains("made_on_the_fly"));
+    }
+  }
+  for (const std::string& wrong :
+       {"radiosity " + scene + " --solver galerkin --update linespace --shafts some",
+        "radiosity " + scene + " --shafts managed"}) {
+    const RunResult refused = runPenumbra(wrong);
+    EXPECT_EQ(refused.exitCode, 1) << wrong << ": " << refused.output;
+    EXPECT_NE(refused.output.find("--shafts"), std::string::npos) << refused.output;
+  }
+}
+
 // Exit code 2 (bad input) from every verb that reads a scene, with a message naming the file:
 // malformed JSON (file, line and column) and well-formed JSON that is not a valid scene (file and
 // JSON pointer).

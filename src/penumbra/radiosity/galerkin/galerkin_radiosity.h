@@ -74,7 +74,7 @@ struct ShaftManagement {
   // T_shafts): a list no update, walk or prediction has used in the last `minAge` updates (the
   // paper's T_min) is released.
   std::size_t collectAbove = 0;
-  int minAge = 2;
+  int minAge = 1;
   // Which lists outlive the update that used them: making a list again tests each of its
   // parent's candidates, keeping it costs its own, so a list is kept only when it holds at most
   // this share of its parent's (1: every list; 0: only the empty ones, which cost nothing).

@@ -155,17 +155,20 @@ void GalerkinRadiosity::manageShafts(std::vector<Box3> predicted) {
   if (m.collectAbove == 0 || held > m.collectAbove)
     for (size_t i = 1; i < links_.size(); ++i) {
       GLink& link = links_[i];
-      if (link.candidates &&
+      // A cluster's pair with itself holds the root's list: nothing to release.
+      if (link.candidates && link.state != GLink::kSelf &&
           (serial_ - link.shaftUsed >= std::uint32_t(m.minAge) || !worthKeeping(link))) {
         link.candidates.reset();
         ++lastUpdate_.shaftsCollected;
       }
     }
   lastUpdate_.shaftSeconds = clock.seconds();
+  statsCounted_ = false;  // the lists held changed
 }
 
 bool GalerkinRadiosity::worthKeeping(const GLink& link) const {
-  return link.state != GLink::kSelf &&
+  // A cluster's pair with itself holds its parent's list, which is the root's: nothing.
+  return link.state == GLink::kSelf ||
          double(link.candidateCount) <=
              options_.management.keepShare * double(links_[link.parent].candidateCount);
 }
