@@ -72,7 +72,7 @@ TEST(GalerkinShafts, EveryPolicyGivesTheSameSolutionBitForBit) {
   policies[0].shafts = ShaftPolicy::kAll;
   policies[1].management.workerThread = false;
   policies[2].management.prediction = false;
-  policies[3].management.keepShare = 0;  // only the empty lists outlive their update
+  policies[3].management.keepCount = 0;  // only the empty lists outlive their update
   std::vector<std::unique_ptr<GalerkinRadiosity>> solvers;
   for (const GalerkinOptions& o : policies) {
     solvers.push_back(std::make_unique<GalerkinRadiosity>(o));
@@ -101,7 +101,7 @@ TEST(GalerkinShafts, EveryPolicyGivesTheSameSolutionBitForBit) {
     EXPECT_EQ(solvers[1]->verifyLinks(), "") << "step " << step;
     EXPECT_EQ(solvers[3]->verifyLinks(), "") << "step " << step;
   }
-  // Managed lists hold a small part of every pair's; with keepShare 0, nearly none.
+  // Managed lists hold a small part of every pair's; with keepCount 0, nearly none.
   const GalerkinStats &all = solvers[0]->stats(), &managed = solvers[1]->stats(),
                       &lean = solvers[3]->stats();
   EXPECT_LT(managed.shaftBytes, all.shaftBytes / 2);
@@ -138,7 +138,16 @@ TEST(GalerkinShafts, CollectionReleasesTheListsNoUpdateUsed) {
     solver.update(live, move);
     const long long afterMove = solver.stats().shafts;
     EXPECT_GT(afterMove, 100);
-    EXPECT_EQ(solver.lastUpdate().shaftsCollected, 0);
+    if (collect) {
+      // Beyond their update only the lists of at most keepCount candidates are kept.
+      EXPECT_GT(solver.lastUpdate().shaftsCollected, 0);
+      for (const GalerkinRadiosity::GLink& link : solver.links())
+        if (link.candidates && link.state != GalerkinRadiosity::GLink::kSelf) {
+          EXPECT_LE(link.candidates->size(), options.management.keepCount);
+        }
+    } else {
+      EXPECT_EQ(solver.lastUpdate().shaftsCollected, 0);
+    }
     // Updates that move nothing age every list; the second one collects them all.
     const SceneChange still;
     solver.update(live, still);

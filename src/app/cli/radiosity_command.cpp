@@ -100,6 +100,8 @@ nlohmann::json updateJson(const GalerkinUpdateStats& u) {
                         {"at_new_position", u.shaftsAtNew},
                         {"made_on_the_fly", u.shaftsMade},
                         {"already_there", u.shaftsThere},
+                        {"made_anew", u.shaftsRemade},
+                        {"counted_only", u.shaftsCounted},
                         {"prediction_tests", u.predictionTests},
                         {"made_on_prediction", u.shaftsPredicted},
                         {"collected", u.shaftsCollected},

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -47,6 +48,11 @@ struct GalerkinRadiosity::Move {
   // came from): the re-posed elements', and every cluster's.
   std::unordered_map<int, Box3> elementBoundsBefore;
   std::vector<Box3> clusterBoundsBefore;
+  // The moved polygons, ascending, with their bounds at the last pose; a pair's moved part
+  // (GalerkinRadiosity::MovedPart) holds positions in these.
+  std::vector<PolygonId> movedIds;
+  std::vector<Box3> movedBoundsBefore;
+  std::shared_ptr<const std::vector<std::uint32_t>> everyMoved;  // the root's moved part
   bool endChanged(NodeRef n) const {
     return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "penumbra/base/check.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/point_form_factor.h"
 #include "penumbra/radiosity/shaft.h"
@@ -17,10 +18,6 @@ namespace {
 // The mean of max(0, cos θ) over all directions: a cluster end's cosine in the transfers the
 // oracle weighs (its coefficients take the direction from the cluster's lobes instead).
 constexpr double kClusterCosine = 0.25;
-
-// A segment is tested against its link's candidates' boxes before a ray is cast only when there
-// are at most this many.
-constexpr size_t kMostBoxesTested = 16;
 
 // Element ends nearer than this share of the larger one's size have their receiver's form factor
 // sampled at its corners too (GalerkinRadiosity::estimate).
@@ -110,7 +107,7 @@ std::vector<PolygonId> GalerkinRadiosity::shaftCandidates(
 }
 
 GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
-                                                        const std::vector<PolygonId>& candidates,
+                                                        const CandidateView& candidates,
                                                         Counters& counters,
                                                         const VisibilityReuse* reuse) const {
   const EndPoints receiver = r.isCluster() ? clusterPoints(clusters_[r.index].structure.bounds)
@@ -118,7 +115,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   const EndPoints source = s.isCluster() ? clusterPoints(clusters_[s.index].structure.bounds)
                                          : elementPoints(elements_[s.index]);
   const double sourceArea = area(s);
-  const bool mayBeHidden = !candidates.empty();
+  const bool mayBeHidden = candidates.count > 0;
   if (!mayBeHidden) ++counters.unoccludedLinks;
   // The unoccluded transfer of each pair. Between elements, each receiver point's row is scaled
   // to its exact point-to-element form factor (Lambert's formula): the source's cubature points
@@ -171,11 +168,12 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   // The candidates' bounds, grown by the ray caster's tolerance (it works in single precision).
   // Past a few candidates a ray costs less than testing its segment against every box (measured
   // on the furnished room, one core: a build 0.73 s with the boxes always tested, 0.46 s past 16).
-  const bool testEveryRay = candidates.size() > kMostBoxesTested;
+  const bool testEveryRay = candidates.count > kMostBoxesTested;
   std::vector<Box3> candidateBoxes;
-  if (!testEveryRay) {
-    candidateBoxes.reserve(candidates.size());
-    for (PolygonId id : candidates)
+  if (!testEveryRay && mayBeHidden) {
+    CHECK(candidates.ids && candidates.ids->size() == candidates.count);
+    candidateBoxes.reserve(candidates.count);
+    for (PolygonId id : *candidates.ids)
       candidateBoxes.push_back(polygonBounds_[id].expanded(rays_->epsilon()));
   }
   double hiddenTransfer = 0;

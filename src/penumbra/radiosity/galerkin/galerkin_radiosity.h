@@ -23,6 +23,9 @@
 //    cut in its own coordinates, so the hierarchy has the same shape at every pose), walks the
 //    pairs from the root and re-estimates only those whose shaft the object's old or new box
 //    meets, refines or cleans up there, and solves from the previous solution.
+//  - Dynamic shaft management (Schöffel & Pomi 1999; galerkin_shafts.cpp): the pairs' candidate
+//    lists are kept only near the moving objects, made ahead of them on predicted boxes and
+//    collected when old (ShaftPolicy, ShaftManagement); results are the same bits whatever is kept.
 //
 // Units: B, M in W/m²; irradiance in W/m²; B = M + ρ E (DESIGN.md §5).
 
@@ -75,10 +78,12 @@ struct ShaftManagement {
   // paper's T_min) is released.
   std::size_t collectAbove = 0;
   int minAge = 1;
-  // Which lists outlive the update that used them: making a list again tests each of its
-  // parent's candidates, keeping it costs its own, so a list is kept only when it holds at most
-  // this share of its parent's (1: every list; 0: only the empty ones, which cost nothing).
-  double keepShare = 1;
+  // Which lists outlive the update that used them: those of at most this many candidates. A
+  // longer list is not needed to estimate its pair again after a move that leaves its ends and
+  // its parent's static candidates as they were (the estimate then reads only how many there
+  // are, which the pair keeps, and the move's own polygons, which are few); it is made again
+  // only for a pair whose ends changed, which a move makes from the parent's list anyway.
+  std::size_t keepCount = 16;
   // Prediction and collection on a second thread after each update, while the caller draws or
   // waits for input; the next call that reads or changes the pairs waits for it first.
   bool workerThread = true;
@@ -173,8 +178,10 @@ struct GalerkinUpdateStats {
   // those of the work after this update, for the next (ShaftManagement::workerThread).
   long long shaftsAtOld = 0;      // tested pairs whose shaft a moved object's old box meets
   long long shaftsAtNew = 0;      // ... its new box
-  long long shaftsMade = 0;       // met pairs whose candidates were made on the fly
+  long long shaftsMade = 0;       // lists made on the fly where they were not kept
+  long long shaftsRemade = 0;     // met pairs whose ends or parent's list changed: made anew
   long long shaftsThere = 0;      // met pairs whose candidates were kept from before
+  long long shaftsCounted = 0;    // met pairs that needed only how many they hold (kManaged)
   long long predictionTests = 0;  // shafts tested against the predicted boxes
   long long shaftsPredicted = 0;  // lists made ahead on the predicted boxes
   long long shaftsCollected = 0;  // lists released by garbage collection
@@ -331,8 +338,18 @@ class GalerkinRadiosity {
   // Can any light leave s and reach r (their fronts face each other somewhere)?
   bool canExchange(NodeRef r, NodeRef s) const;
   struct VisibilityReuse;
-  Estimate estimate(NodeRef r, NodeRef s, const std::vector<PolygonId>& candidates,
-                    Counters& counters, const VisibilityReuse* reuse = nullptr) const;
+  // A segment is tested against its link's candidates' boxes before a ray is cast only when there
+  // are at most this many; past them an estimate reads only how many there are.
+  static constexpr std::size_t kMostBoxesTested = 16;
+  // What an estimate reads of a pair's occluder candidates: how many, and the polygons
+  // themselves when there are at most kMostBoxesTested.
+  struct CandidateView {
+    std::size_t count = 0;
+    const std::vector<PolygonId>* ids = nullptr;
+    static CandidateView of(const std::vector<PolygonId>& list) { return {list.size(), &list}; }
+  };
+  Estimate estimate(NodeRef r, NodeRef s, const CandidateView& candidates, Counters& counters,
+                    const VisibilityReuse* reuse = nullptr) const;
   // The polygons of `among` that may meet the link's shaft.
   std::vector<PolygonId> shaftCandidates(NodeRef r, NodeRef s,
                                          const std::vector<PolygonId>& among) const;
@@ -374,6 +391,7 @@ class GalerkinRadiosity {
   // A pair's candidates, made from its parent's (recursively, the root's always kept) when they
   // are absent; stamped as used by this update. On one thread only.
   const Candidates& candidatesFor(int pair);
+  long long listsMade_ = 0;  // by candidatesFor (what an update counts as made on the fly)
   // Removes the dropped pairs from storage (every index changes).
   void compactPairs();
   // Merges back every split whose subtree no live pair names (a move or a clean-up left it
@@ -389,12 +407,17 @@ class GalerkinRadiosity {
   std::optional<Move> prepareMove(const SceneChange& change);
   // Walks the pairs from the root, re-estimating the met ones; new subtrees go to `fresh`.
   void walkPairs(const Move& move, Counters& counters, std::vector<RefineTask>& fresh);
-  // A kept pair's candidates at the new pose: its old ones without the moved polygons, plus the
-  // moved polygons of its parent's (new) candidates that its shaft admits, in ascending order
-  // as a fresh filtering of the parent's gives them (a moved object's polygons are contiguous).
-  std::vector<PolygonId> withMovedPolygons(const Move& move, NodeRef r, NodeRef s,
-                                           const std::vector<PolygonId>& old,
-                                           const std::vector<PolygonId>& inherited) const;
+  // The moved polygons of a pair's candidates, before the move (their old bounds, the pair's
+  // old shaft) or after it, filtered from its parent's: a few positions in Move::movedIds, so
+  // cheap where the whole list is not.
+  using MovedPart = std::shared_ptr<const std::vector<std::uint32_t>>;
+  MovedPart movedPart(const Move& move, NodeRef r, NodeRef s,
+                      const std::vector<std::uint32_t>& among, bool before) const;
+  // A kept pair's candidates at the new pose: its old ones without the moved polygons, merged
+  // in order with the moved ones it has now (movedPart), as a fresh filtering gives them.
+  static std::vector<PolygonId> withMovedPolygons(const Move& move,
+                                                  const std::vector<PolygonId>& old,
+                                                  const std::vector<std::uint32_t>& movedNow);
   void setState(GLink& link, GLink::State state);  // keeps linkCount_
   // The static polygons (none of the move's) of `among` that the pair's shaft admitted at the
   // last pose: its old list's part a move cannot change, when the list itself was not kept.
@@ -487,7 +510,7 @@ class GalerkinRadiosity {
   // Makes the lists of the pairs whose shafts the boxes meet, then collects old lists; on the
   // worker thread when there is one.
   void manageShafts(std::vector<Box3> predicted);
-  // Is a pair's list worth keeping beyond the update that used it (ShaftManagement::keepShare)?
+  // Is a pair's list worth keeping beyond the update that used it (ShaftManagement::keepCount)?
   bool worthKeeping(const GLink& link) const;
   void startShaftWork(const SceneChange& change);
   // Waits for the worker's shaft work, if any (every call that reads or changes pairs does).

@@ -81,6 +81,7 @@ const GalerkinRadiosity::Candidates& GalerkinRadiosity::candidatesFor(int pair) 
   if (!link.candidates) {
     const Candidates& inherited = candidatesFor(link.parent);
     GLink& made = links_[pair];
+    ++listsMade_;
     made.candidates =
         made.state == GLink::kSelf
             ? inherited
@@ -291,7 +292,8 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
       if (!out.exchanges || task.receiver == task.source) return;
       out.own =
           shared(shaftCandidates(task.receiver, task.source, *task.candidates), task.candidates);
-      out.estimate = estimate(task.receiver, task.source, *out.own, out.counters);
+      out.estimate =
+          estimate(task.receiver, task.source, CandidateView::of(*out.own), out.counters);
     });
     std::vector<RefineTask> next;
     for (size_t i = 0; i < wave.size(); ++i) {

@@ -168,9 +168,7 @@ void GalerkinRadiosity::manageShafts(std::vector<Box3> predicted) {
 
 bool GalerkinRadiosity::worthKeeping(const GLink& link) const {
   // A cluster's pair with itself holds its parent's list, which is the root's: nothing.
-  return link.state == GLink::kSelf ||
-         double(link.candidateCount) <=
-             options_.management.keepShare * double(links_[link.parent].candidateCount);
+  return link.state == GLink::kSelf || link.candidateCount <= options_.management.keepCount;
 }
 
 void GalerkinRadiosity::countShafts() const {

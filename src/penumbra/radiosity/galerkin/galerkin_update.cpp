@@ -137,6 +137,11 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const Scen
     move.ranges.push_back({begin, end});
     for (PolygonId p = begin; p < end; ++p) move.movedPolygon[p] = 1;
   }
+  for (PolygonId p = 0; p < PolygonId(move.movedPolygon.size()); ++p)
+    if (move.movedPolygon[p]) move.movedIds.push_back(p);
+  std::vector<std::uint32_t> every(move.movedIds.size());
+  for (size_t k = 0; k < every.size(); ++k) every[k] = std::uint32_t(k);
+  move.everyMoved = std::make_shared<const std::vector<std::uint32_t>>(std::move(every));
   // The moved objects' boxes before and after, grown by what the ray caster may round.
   const double margin = 4 * rays_->epsilon() + 1e-9 * scene_.extent.diagonalLength();
   for (const ObjectMove& m : change.moves) {
@@ -188,24 +193,39 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const Scen
   return move;
 }
 
-std::vector<PolygonId> GalerkinRadiosity::withMovedPolygons(
-    const Move& move, NodeRef r, NodeRef s, const std::vector<PolygonId>& old,
-    const std::vector<PolygonId>& inherited) const {
-  const Shaft shaft(bounds(r), bounds(s));
-  std::vector<PolygonId> entering;
-  for (const auto& [begin, end] : move.ranges) {
-    auto from = std::lower_bound(inherited.begin(), inherited.end(), begin);
-    const auto to = std::lower_bound(from, inherited.end(), end);
-    for (; from != to; ++from)
-      if (shaft.mayIntersect(polygonBounds_[*from])) entering.push_back(*from);
+GalerkinRadiosity::MovedPart GalerkinRadiosity::movedPart(const Move& move, NodeRef r, NodeRef s,
+                                                          const std::vector<std::uint32_t>& among,
+                                                          bool before) const {
+  // As shaftCandidates filters, on the moved polygons alone (at their old bounds before).
+  static const MovedPart kNone = std::make_shared<const std::vector<std::uint32_t>>();
+  if (among.empty()) return kNone;
+  const Shaft shaft =
+      before ? Shaft(boundsBefore(move, r), boundsBefore(move, s)) : Shaft(bounds(r), bounds(s));
+  const PolygonId ownR = r.isElement() ? elements_[r.index].polygon : PolygonId(-1);
+  const PolygonId ownS = s.isElement() ? elements_[s.index].polygon : PolygonId(-1);
+  std::vector<std::uint32_t> part;
+  for (std::uint32_t k : among) {
+    const PolygonId id = move.movedIds[k];
+    if (id != ownR && id != ownS &&
+        shaft.mayIntersect(before ? move.movedBoundsBefore[k] : polygonBounds_[id]))
+      part.push_back(k);
   }
-  std::sort(entering.begin(), entering.end());
-  std::vector<PolygonId> kept;
-  kept.reserve(old.size() + entering.size());
-  for (PolygonId id : old)
-    if (!move.movedPolygon[id]) kept.push_back(id);
-  std::vector<PolygonId> merged(kept.size() + entering.size());
-  std::merge(kept.begin(), kept.end(), entering.begin(), entering.end(), merged.begin());
+  return std::make_shared<const std::vector<std::uint32_t>>(std::move(part));
+}
+
+std::vector<PolygonId> GalerkinRadiosity::withMovedPolygons(
+    const Move& move, const std::vector<PolygonId>& old,
+    const std::vector<std::uint32_t>& movedNow) {
+  std::vector<PolygonId> merged;
+  merged.reserve(old.size() + movedNow.size());
+  auto next = movedNow.begin();
+  for (PolygonId id : old) {
+    if (move.movedPolygon[id]) continue;
+    for (; next != movedNow.end() && move.movedIds[*next] < id; ++next)
+      merged.push_back(move.movedIds[*next]);
+    merged.push_back(id);
+  }
+  for (; next != movedNow.end(); ++next) merged.push_back(move.movedIds[*next]);
   return merged;
 }
 
@@ -239,25 +259,38 @@ void GalerkinRadiosity::setState(GLink& link, GLink::State state) {
 
 void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
                                   std::vector<RefineTask>& fresh) {
+  // How a met pair gets its candidates at the new pose:
+  enum class Making : std::uint8_t {
+    kFilter,  // from its parent's list (an end or the inherited candidates changed, or it
+              // needs its few candidates' ids and did not keep them)
+    kEdit,    // its kept list, the moved polygons replaced (ends and inheritance as they were)
+    kCount,   // none: as they were but for the moved polygons, and so many (or none) that the
+              // estimate reads only how many (ShaftPolicy::kManaged, the list not kept)
+  };
   struct Outcome {
     bool exchanges = false;
-    bool hadCandidates = false;  // its list was kept from before (not made on the fly)
-    Candidates own;
+    Making making = Making::kFilter;
+    bool wasEstimated = false;  // a link or a split pair before the move
+    std::size_t count = 0;      // its candidates at the new pose
+    Candidates own;             // they, unless kCount
     // A split pair's candidates before the move, what its children's were filtered from: its
     // kept list, or (not kept, ShaftPolicy::kManaged) their static part made again.
     Candidates before;
+    MovedPart movedBefore, movedAfter;  // the moved polygons among its candidates
     Estimate estimate;
     Counters counters;
   };
   // A pair to visit; whether its parent's candidates changed (then its own may have: the
-  // conservative shaft test can admit a polygon its parent's shaft rejected); and the parent's
-  // candidates before the move (at least their static part).
+  // conservative shaft test can admit a polygon its parent's shaft rejected); the parent's
+  // candidates before the move (at least their static part; none: the same as its new ones');
+  // and the moved polygons among the parent's candidates before and after the move.
   struct Visit {
     int pair = 0;
     bool inheritedChanged = false;
     Candidates inheritedBefore;
+    MovedPart movedBefore, movedAfter;
   };
-  std::vector<Visit> wave{{0, false, links_[0].candidates}};
+  std::vector<Visit> wave{{0, false, links_[0].candidates, move.everyMoved, move.everyMoved}};
   const size_t movedObjects = move.boxes.size() / 2;
   Stopwatch walk;
   while (!wave.empty()) {
@@ -282,39 +315,78 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       lastUpdate_.shaftsAtNew += atNew;
       if (atOld || atNew) met.push_back(visit);
     }
-    // A met pair's parent was met too and holds its new candidates (the root's are always kept).
-    for (const Visit& visit : met)
-      if (links_[visit.pair].parent >= 0) candidatesFor(links_[visit.pair].parent);
     lastUpdate_.walkSeconds += walk.lap();
     std::vector<Outcome> outcomes(met.size());
+    const auto kept = [&](size_t m) {
+      const GLink& link = links_[met[m].pair];
+      return !met[m].inheritedChanged && !move.endChanged(link.receiver) &&
+             !move.endChanged(link.source);
+    };
+    // The moved parts, and how each pair's candidates will be made (cheap: a few ids each).
     parallelFor((long long)met.size(), options_.threads, [&](long long m) {
       const GLink& link = links_[met[m].pair];
       Outcome& out = outcomes[m];
       out.exchanges = canExchange(link.receiver, link.source);
       if (!out.exchanges || link.receiver == link.source) return;
-      // With both ends and the inherited candidates as they were, the stored estimate is a
-      // fresh one of the last pose: its candidates change only by moved polygons, and the point
-      // pairs whose segments miss the moved boxes keep their visibility.
-      const bool kept = !met[m].inheritedChanged && !move.endChanged(link.receiver) &&
-                        !move.endChanged(link.source);
+      // Before the move, the moved part is needed only to count a list that was not kept.
+      if (managed())
+        out.movedBefore = movedPart(move, link.receiver, link.source, *met[m].movedBefore, true);
+      out.movedAfter = movedPart(move, link.receiver, link.source, *met[m].movedAfter, false);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
-      const Candidates& inherited = links_[link.parent].candidates;
-      out.hadCandidates = link.candidates != nullptr;
-      out.own = shared(
-          kept && estimated && link.candidates
-              ? withMovedPolygons(move, link.receiver, link.source, *link.candidates, *inherited)
-              : shaftCandidates(link.receiver, link.source, *inherited),
-          inherited);
+      out.wasEstimated = estimated;
+      if (!kept(m) || !estimated) return;  // kFilter
+      if (link.candidates) {
+        out.making = Making::kEdit;
+        return;
+      }
+      out.count = link.candidateCount - out.movedBefore->size() + out.movedAfter->size();
+      if (out.count == 0 || out.count > kMostBoxesTested) out.making = Making::kCount;
+    });
+    // The parents' lists the filtering pairs need, made where they were not kept (on one
+    // thread: a parent may have to be made from its own parent's).
+    const long long madeBefore = listsMade_;
+    for (size_t m = 0; m < met.size(); ++m) {
+      const GLink& link = links_[met[m].pair];
+      const bool filters = outcomes[m].exchanges && link.receiver != link.source &&
+                           outcomes[m].making == Making::kFilter;
+      if (filters || (outcomes[m].exchanges && !kept(m) && link.state == GLink::kPassive &&
+                      !met[m].inheritedBefore))
+        candidatesFor(link.parent);
+    }
+    lastUpdate_.shaftsMade += listsMade_ - madeBefore;
+    lastUpdate_.walkSeconds += walk.lap();
+    parallelFor((long long)met.size(), options_.threads, [&](long long m) {
+      const GLink& link = links_[met[m].pair];
+      Outcome& out = outcomes[m];
+      if (!out.exchanges || link.receiver == link.source) return;
+      const Candidates& inherited = links_[link.parent].candidates;  // made when filtering
+      switch (out.making) {
+        case Making::kFilter:
+          out.own = shared(shaftCandidates(link.receiver, link.source, *inherited), inherited);
+          break;
+        case Making::kEdit: {
+          std::vector<PolygonId> edited =
+              withMovedPolygons(move, *link.candidates, *out.movedAfter);
+          out.own = inherited ? shared(std::move(edited), inherited)
+                              : std::make_shared<const std::vector<PolygonId>>(std::move(edited));
+          break;
+        }
+        case Making::kCount:
+          break;
+      }
+      if (out.own) out.count = out.own->size();
       // What its children's candidates came from, to tell whether they changed (not needed
       // when kept: then only moved polygons changed in it).
-      if (link.state == GLink::kPassive && !kept)
+      if (link.state == GLink::kPassive && !kept(m))
         out.before = link.candidates
                          ? link.candidates
                          : std::make_shared<const std::vector<PolygonId>>(staticCandidatesBefore(
-                               move, link.receiver, link.source, *met[m].inheritedBefore));
+                               move, link.receiver, link.source,
+                               met[m].inheritedBefore ? *met[m].inheritedBefore : *inherited));
+      const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
       const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &move.boxes};
-      out.estimate = estimate(link.receiver, link.source, *out.own, out.counters,
-                              kept && estimated ? &reuse : nullptr);
+      out.estimate = estimate(link.receiver, link.source, CandidateView{out.count, out.own.get()},
+                              out.counters, kept(m) && estimated ? &reuse : nullptr);
     });
     std::vector<Visit> next;
     for (size_t m = 0; m < met.size(); ++m) {
@@ -326,9 +398,10 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       counters.reusedRays += out.counters.reusedRays;
       ++lastUpdate_.met;
       const NodeRef r = links_[i].receiver, s = links_[i].source;
-      const auto visitChildren = [&](bool candidatesChanged, const Candidates& before) {
+      const auto visitChildren = [&](bool candidatesChanged, const Candidates& before,
+                                     const MovedPart& movedBefore, const MovedPart& movedAfter) {
         for (int c = links_[i].firstChild; c < links_[i].firstChild + links_[i].childCount; ++c)
-          next.push_back({c, candidatesChanged, before});
+          next.push_back({c, candidatesChanged, before, movedBefore, movedAfter});
       };
       if (!out.exchanges) {
         if (links_[i].state == GLink::kPassive) lastUpdate_.dropped += dropChildren(i);
@@ -339,22 +412,44 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       }
       if (r == s) {  // a cluster with itself: its children's pairs are fixed, its candidates
                      // its parent's
-        if (links_[i].parent >= 0) keepCandidates(links_[i], links_[links_[i].parent].candidates);
-        visitChildren(met[m].inheritedChanged, met[m].inheritedBefore);
+        if (links_[i].parent >= 0) {
+          const GLink& parent = links_[links_[i].parent];
+          links_[i].candidates = parent.candidates;
+          links_[i].candidateCount = parent.candidateCount;
+          links_[i].shaftUsed = serial_;
+        }
+        visitChildren(met[m].inheritedChanged, met[m].inheritedBefore, met[m].movedBefore,
+                      met[m].movedAfter);
         continue;
       }
       ++lastUpdate_.reestimated;
-      ++(out.hadCandidates ? lastUpdate_.shaftsThere : lastUpdate_.shaftsMade);
+      switch (out.making) {
+        case Making::kFilter:
+          // Made again under any policy where an end or the inherited list changed; else
+          // only because it was not kept.
+          ++(kept(m) && out.wasEstimated ? lastUpdate_.shaftsMade : lastUpdate_.shaftsRemade);
+          break;
+        case Making::kEdit:
+          ++lastUpdate_.shaftsThere;
+          break;
+        case Making::kCount:
+          ++lastUpdate_.shaftsCounted;
+          break;
+      }
       const Estimate& e = out.estimate;
       std::optional<NodeRef> end;
       if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
         end = endToSplit(r, s);
       GLink& link = links_[i];
       storeEstimate(link, e);
-      // The same list as before stays the same block: its children not met share it still.
-      if (link.candidates && out.own != link.candidates && *out.own == *link.candidates)
-        out.own = link.candidates;
-      keepCandidates(link, out.own);
+      if (out.own) {
+        // The same list as before stays the same block: its children not met share it still.
+        if (link.candidates && out.own != link.candidates && *out.own == *link.candidates)
+          out.own = link.candidates;
+        keepCandidates(link, out.own);
+      } else {
+        link.candidateCount = std::uint32_t(out.count);
+      }
       const bool splitAlike =
           end && link.state == GLink::kPassive && link.splitReceiver == (*end == r);
       if (end && !splitAlike && deferSplit()) end.reset();  // a link until a later update
@@ -363,14 +458,18 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
         // moved polygons (which their own shafts filter) only if its own gained or lost another;
         // with its ends and inherited candidates as they were, only moved polygons changed.
         if (out.before)
-          visitChildren(staticPartDiffers(*out.before, *out.own, move.movedPolygon), out.before);
+          visitChildren(staticPartDiffers(*out.before, *out.own, move.movedPolygon), out.before,
+                        out.movedBefore, out.movedAfter);
         else
-          visitChildren(false, out.own);
+          visitChildren(false, out.own, out.movedBefore, out.movedAfter);
       } else if (end) {  // split anew: a subtree for refinement below
         lastUpdate_.dropped += dropChildren(i);
         setState(links_[i], GLink::kPassive);
         links_[i].splitReceiver = *end == r;
-        queueChildren(r, s, *end, out.own, i, fresh);
+        const long long made = listsMade_;
+        const Candidates own = candidatesFor(i);
+        lastUpdate_.shaftsMade += listsMade_ - made;
+        queueChildren(r, s, *end, own, i, fresh);
         ++lastUpdate_.refined;
       } else {
         if (link.state == GLink::kPassive) {
@@ -423,6 +522,15 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   };
   if (elements_.empty()) return rebuild("nothing was built");
   if (change.extentGrows) return rebuild("the scene's extent grew");
+  // The moved polygons' bounds at the last pose (the pairs' old candidates were filtered by
+  // them), in ascending order, before takeScene replaces them.
+  std::vector<std::pair<PolygonId, Box3>> movedBoundsBefore;
+  for (const ObjectMove& m : change.moves)
+    for (PolygonId p = scene_.objectFirstPolygon[m.object];
+         p < scene_.objectFirstPolygon[m.object + 1]; ++p)
+      movedBoundsBefore.emplace_back(p, polygonBounds_[p]);
+  std::sort(movedBoundsBefore.begin(), movedBoundsBefore.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   takeScene(scene);
   stats_.refineSeconds = stats_.solveSeconds = 0;
   stats_.iterations = 0;
@@ -453,8 +561,9 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
 
   frameBudgeted_ = options_.frameBudgetSeconds > 0;
   // 1. The moved objects' elements, the covers contacts give, the cluster boxes.
-  const std::optional<Move> move = prepareMove(change);
+  std::optional<Move> move = prepareMove(change);
   if (!move) return rebuild("a moved polygon's root elements changed (its triangulation)");
+  for (const auto& [id, box] : movedBoundsBefore) move->movedBoundsBefore.push_back(box);
   lastUpdate_.reposeSeconds = stage.lap();
 
   // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then

@@ -88,7 +88,7 @@ std::string GalerkinRadiosity::verifyLinks() const {
     } else {
       auto own = std::make_shared<const std::vector<PolygonId>>(
           shaftCandidates(link.receiver, link.source, *inherited));
-      const Estimate e = estimate(link.receiver, link.source, *own, counters);
+      const Estimate e = estimate(link.receiver, link.source, CandidateView::of(*own), counters);
       if (!sameBits(e.k, link.k) || !sameBits(e.direction, link.direction) ||
           float(e.meanTransfer) != link.meanTransfer || float(e.spread) != link.spread ||
           float(e.hiddenTransfer) != link.hiddenTransfer || e.hiddenPairs != link.hiddenPairs ||
