@@ -349,8 +349,10 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       const GLink& link = links_[met[m].pair];
       const bool filters = outcomes[m].exchanges && link.receiver != link.source &&
                            outcomes[m].making == Making::kFilter;
+      // A split pair not kept whose old list is gone remakes its static part from its parent's
+      // old one, which is the parent's new one when the parent was kept.
       if (filters || (outcomes[m].exchanges && !kept(m) && link.state == GLink::kPassive &&
-                      !met[m].inheritedBefore))
+                      !link.candidates && !met[m].inheritedBefore))
         candidatesFor(link.parent);
     }
     lastUpdate_.shaftsMade += listsMade_ - madeBefore;
