@@ -11,6 +11,12 @@
 // its parent's candidates did not change either, neither did its own. Shaft::mayIntersect is
 // monotone in the box and a child's ends lie inside its parent's, so below a pair that is not
 // met nothing is: the walk stops there. verifyLinks() checks it all.
+//
+// A met pair whose ends and inherited static candidates are as they were needs of its own
+// candidates only what changed, the moved polygons among them: those are filtered down the walk
+// from the root on their own (a few ids per pair), so such a pair edits its kept list, or, when
+// it kept none (ShaftPolicy::kManaged), corrects its kept count, which is all an estimate reads
+// of more than kMostBoxesTested candidates (galerkin_shafts.cpp).
 
 #include <algorithm>
 #include <memory>
