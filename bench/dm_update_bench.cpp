@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_statistics.h"
 #include "penumbra/dm/irradiance_mesh.h"
 #include "penumbra/scene/scene_generator.h"
 #include "penumbra/scene/scene_loader.h"
@@ -21,6 +22,7 @@
 namespace {
 
 using namespace penumbra;
+using bench::median;
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
@@ -31,12 +33,6 @@ double secondsSince(Clock::time_point start) {
 // varies far less than the wall clock.
 double cpuSeconds() {
   return double(std::clock()) / CLOCKS_PER_SEC;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 void benchScene(const std::string& name, const Scene& scene) {

@@ -23,11 +23,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bench_statistics.h"
 #include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 #include "penumbra/scene/scene_loader.h"
@@ -36,18 +36,8 @@
 namespace {
 
 using namespace penumbra;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-double mean(const std::vector<double>& v) {
-  double sum = 0;
-  for (double x : v) sum += x;
-  return v.empty() ? 0 : sum / double(v.size());
-}
+using bench::mean;
+using bench::median;
 
 struct Policy {
   const char* name;
@@ -64,22 +54,6 @@ struct Record {
   std::size_t maxShaftBytes = 0, maxAllBytes = 0;
   int differences = 0;
 };
-
-// Bit for bit: every pair's state, ends and coefficients, and every leaf's radiosity.
-std::string firstDifference(const GalerkinRadiosity& a, const GalerkinRadiosity& b) {
-  const auto &la = a.links(), &lb = b.links();
-  if (la.size() != lb.size()) return "pair counts differ";
-  for (size_t i = 0; i < la.size(); ++i)
-    if (la[i].state != lb[i].state || !(la[i].receiver == lb[i].receiver) ||
-        !(la[i].source == lb[i].source) || std::memcmp(&la[i].k, &lb[i].k, sizeof la[i].k) != 0)
-      return "pair " + std::to_string(i) + " differs";
-  const auto &ea = a.elements(), &eb = b.elements();
-  if (ea.size() != eb.size()) return "element counts differ";
-  for (size_t i = 0; i < ea.size(); ++i)
-    if (std::memcmp(&ea[i].node.radiosity, &eb[i].node.radiosity, sizeof ea[i].node.radiosity) != 0)
-      return "element " + std::to_string(i) + "'s radiosity differs";
-  return {};
-}
 
 // A smooth random walk of every keyframed object (see the file's comment).
 class SmoothWalk {
@@ -234,7 +208,7 @@ int main(int argc, char** argv) {
       r.heldShare.push_back(double(s.shaftBytes) /
                             double(std::max<std::size_t>(1, s.allShaftBytes)));
       if (p > 0) {
-        const std::string difference = firstDifference(*solvers[0], *solvers[p]);
+        const std::string difference = solvers[p]->differenceFrom(*solvers[0]);
         if (!difference.empty() && r.differences++ < 3)
           std::printf("  move %d: %s differs from all: %s\n", move, policies[p].name,
                       difference.c_str());

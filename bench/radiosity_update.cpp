@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_statistics.h"
 #include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
 #include "penumbra/scene/scene_loader.h"
@@ -23,12 +24,7 @@
 namespace {
 
 using namespace penumbra;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
+using bench::median;
 
 struct StepFigures {
   std::vector<double> update, repose, traverse, walk, refine, solve, full;

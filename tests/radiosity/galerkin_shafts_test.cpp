@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,22 +26,6 @@ GalerkinOptions withShafts(ShaftPolicy policy, double tolerance = 3e-3) {
   o.threads = 1;
   o.shafts = policy;
   return o;
-}
-
-// Every pair's state, ends and coefficients and every element's radiosity, bit for bit.
-std::string firstDifference(const GalerkinRadiosity& a, const GalerkinRadiosity& b) {
-  const auto &la = a.links(), &lb = b.links();
-  if (la.size() != lb.size()) return "pair counts differ";
-  for (size_t i = 0; i < la.size(); ++i)
-    if (la[i].state != lb[i].state || !(la[i].receiver == lb[i].receiver) ||
-        !(la[i].source == lb[i].source) || std::memcmp(&la[i].k, &lb[i].k, sizeof la[i].k) != 0)
-      return "pair " + std::to_string(i);
-  const auto &ea = a.elements(), &eb = b.elements();
-  if (ea.size() != eb.size()) return "element counts differ";
-  for (size_t i = 0; i < ea.size(); ++i)
-    if (std::memcmp(&ea[i].node.radiosity, &eb[i].node.radiosity, sizeof ea[i].node.radiosity))
-      return "element " + std::to_string(i);
-  return {};
 }
 
 // The chair room's chair moved by the caller along a straight line (then turning back): a smooth
@@ -96,8 +79,7 @@ TEST(GalerkinShafts, EveryPolicyGivesTheSameSolutionBitForBit) {
       for (int k = 0; k < 50; ++k) solver->irradiance({0.1 * k, 0, 0.05 * k}, {0, 1, 0});
     }
     for (size_t p = 1; p < solvers.size(); ++p)
-      EXPECT_EQ(firstDifference(*solvers[0], *solvers[p]), "")
-          << "policy " << p << ", step " << step;
+      EXPECT_EQ(solvers[p]->differenceFrom(*solvers[0]), "") << "policy " << p << ", step " << step;
     EXPECT_EQ(solvers[1]->verifyLinks(), "") << "step " << step;
     EXPECT_EQ(solvers[3]->verifyLinks(), "") << "step " << step;
   }

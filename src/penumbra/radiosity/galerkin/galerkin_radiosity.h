@@ -215,6 +215,10 @@ class GalerkinRadiosity {
   // cluster boxes, element shapes and covers recomputed from the scene) and compares each with
   // what is stored, bit for bit: empty when all agree, else the first difference in words.
   std::string verifyLinks() const;
+  // Compares this solution with another bit for bit — every pair's state, ends and coefficients,
+  // every element's radiosity — and returns the first difference in words (empty: none). Two
+  // solvers that differ only in cost settings (shaft policy, threads) must agree.
+  std::string differenceFrom(const GalerkinRadiosity& other) const;
   const GalerkinUpdateStats& lastUpdate() const {
     awaitShaftWork();
     return lastUpdate_;

@@ -117,6 +117,24 @@ std::string GalerkinRadiosity::verifyLinks() const {
   return {};
 }
 
+std::string GalerkinRadiosity::differenceFrom(const GalerkinRadiosity& other) const {
+  const std::vector<GLink>&a = links(), &b = other.links();
+  if (a.size() != b.size())
+    return std::to_string(a.size()) + " pairs against " + std::to_string(b.size());
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].state != b[i].state || !(a[i].receiver == b[i].receiver) ||
+        !(a[i].source == b[i].source) || !sameBits(a[i].k, b[i].k))
+      return "pair " + std::to_string(i) + " (" + describe(a[i].receiver) + " from " +
+             describe(a[i].source) + ")";
+  if (elements_.size() != other.elements_.size())
+    return std::to_string(elements_.size()) + " elements against " +
+           std::to_string(other.elements_.size());
+  for (size_t i = 0; i < elements_.size(); ++i)
+    if (!sameBits(elements_[i].node.radiosity, other.elements_[i].node.radiosity))
+      return "element " + std::to_string(i) + "'s radiosity";
+  return {};
+}
+
 GalerkinRadiosity::PendingRefinement GalerkinRadiosity::pendingRefinement() const {
   awaitShaftWork();
   PendingRefinement pending;
