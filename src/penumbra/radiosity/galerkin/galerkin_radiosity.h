@@ -61,10 +61,11 @@ enum class ShaftPolicy {
 };
 
 // Dynamic shaft management (Schöffel & Pomi 1999): after a build only the root pair keeps its
-// candidates; an update makes a met pair's list when it needs one (from its parent's, which the
-// walk has just made), lists are made ahead of each moving object on its predicted boxes, and
-// lists no update has used for a while are collected. Results never depend on any of it: a
-// missing list is made again exactly as it was (verifyLinks), only the cost changes.
+// candidates; an update makes a met pair's list when it needs one (from its parent's), or needs
+// only how many candidates it has (see keepCount); lists are made ahead of each moving object on
+// its predicted boxes, and lists no update has used for a while are collected. Results never
+// depend on any of it: a missing list is made again exactly as it was (verifyLinks), only the
+// cost changes.
 struct ShaftManagement {
   // Movement prediction: each object the update moved is extrapolated `predictedFrames` moves
   // ahead from its last three poses (constant acceleration), its box scaled by `predictionScale`
