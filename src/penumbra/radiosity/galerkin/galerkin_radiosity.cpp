@@ -274,6 +274,11 @@ std::optional<RadiositySample> GalerkinRadiosity::sample(const Vec3& point,
   const std::optional<int> leaf = leafContaining(point, normal);
   if (!leaf) return std::nullopt;
   const GElement& e = elements_[*leaf];
+  // A point under a polygon lying on it face to face receives nothing (it reflects nothing and
+  // emits what it emits), wherever the linear function of its partly covered leaf, fitted over
+  // the leaf's open part too, would say otherwise: the floor under a sofa read up to 0.4.
+  if (e.cover != GElement::kExposed && isCovered(e.polygon, point))
+    return RadiositySample{Rgb{}, Rgb{}, e.node.emission};
   return RadiositySample{nonNegative(e.basis.evaluate(e.node.irradianceDirect, point)),
                          nonNegative(e.basis.evaluate(e.node.irradianceIndirect, point)),
                          nonNegative(e.basis.evaluate(e.node.radiosity, point))};
