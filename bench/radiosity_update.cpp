@@ -4,6 +4,7 @@
 // timings). The keyframes are walked forward and back `--repeat` times; times are medians.
 //
 // Usage: radiosity_update [--repeat N] [--tolerance T] [--updates-only] [--random-moves N]
+//                         [--shafts all|managed]
 //                         [SCENE...]  (default: the
 // furnished room, the chair room, the Cornell box)
 
@@ -32,11 +33,13 @@ struct StepFigures {
 };
 
 // Returns how many steps failed verification.
-int benchScene(const std::string& path, int repeat, double tolerance, bool updatesOnly) {
+int benchScene(const std::string& path, int repeat, double tolerance, bool updatesOnly,
+               ShaftPolicy shafts) {
   const Scene scene = loadScene(path);
   GalerkinOptions options;
   options.tolerance = tolerance;
   options.threads = 1;
+  options.shafts = shafts;
   std::printf("%s (%d polygons, %d frames), tolerance %g, one thread\n", path.c_str(),
               scene.polygonCount(), scene.frames, tolerance);
   if (scene.frames < 2) {
@@ -63,6 +66,7 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
     live.apply(change);
     const Stopwatch watch;
     solver.update(live, change);
+    solver.lastUpdate();  // the shaft work too, which a worker thread does after the update
     const double seconds = watch.seconds();
     StepFigures& s = steps[{from, to}];
     const GalerkinUpdateStats& u = solver.lastUpdate();
@@ -117,11 +121,12 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
 
 // A seeded random walk of caller moves (rotations and translations of every keyframed object,
 // each kept inside the scene's extent), verifyLinks() after every one; returns the failures.
-int randomMoves(const std::string& path, int moves, double tolerance) {
+int randomMoves(const std::string& path, int moves, double tolerance, ShaftPolicy shafts) {
   const Scene scene = loadScene(path);
   GalerkinOptions options;
   options.tolerance = tolerance;
   options.threads = 1;
+  options.shafts = shafts;
   DynamicScene live(scene, 0);
   GalerkinRadiosity solver(options);
   solver.build(live);
@@ -157,6 +162,7 @@ int randomMoves(const std::string& path, int moves, double tolerance) {
     live.apply(change);
     const Stopwatch watch;
     solver.update(live, change);
+    solver.lastUpdate();  // the shaft work too, which a worker thread does after the update
     seconds.push_back(watch.seconds());
     rebuilt += solver.lastUpdate().rebuilt ? 1 : 0;
     const std::string difference = solver.verifyLinks();
@@ -190,6 +196,7 @@ int main(int argc, char** argv) {
   bool updatesOnly = false;  // no fresh builds and no verification (for profiling the update)
   int moves = 0;             // --random-moves N: the random walk instead of the keyframes
   double tolerance = GalerkinOptions{}.tolerance;
+  ShaftPolicy shafts = GalerkinOptions{}.shafts;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -197,6 +204,8 @@ int main(int argc, char** argv) {
       repeat = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--random-moves" && i + 1 < argc)
       moves = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--shafts" && i + 1 < argc)
+      shafts = std::string(argv[++i]) == "all" ? ShaftPolicy::kAll : ShaftPolicy::kManaged;
     else if (arg == "--updates-only")
       updatesOnly = true;
     else if (arg == "--tolerance" && i + 1 < argc)
@@ -210,7 +219,7 @@ int main(int argc, char** argv) {
               PENUMBRA_SOURCE_DIR "/scenes/cornell-box/cornell-box.json"};
   int failures = 0;
   for (const std::string& scene : scenes)
-    failures += moves > 0 ? randomMoves(scene, moves, tolerance)
-                          : benchScene(scene, repeat, tolerance, updatesOnly);
+    failures += moves > 0 ? randomMoves(scene, moves, tolerance, shafts)
+                          : benchScene(scene, repeat, tolerance, updatesOnly, shafts);
   return failures ? 1 : 0;
 }
