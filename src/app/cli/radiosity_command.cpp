@@ -234,7 +234,6 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
     report["method"] = "galerkin";
     report["update"] = options.update;
     report["shaft_policy"] = solverOptions.shafts == ShaftPolicy::kAll ? "all" : "managed";
-    report["shaft_policy"] = solverOptions.shafts == ShaftPolicy::kAll ? "all" : "managed";
     report["tolerance"] = options.radiosity.tolerance;
     writeReport(report, options.report, options.scene, scene.polygonCount(), frames);
   }

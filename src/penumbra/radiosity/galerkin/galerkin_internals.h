@@ -42,7 +42,6 @@ struct GalerkinRadiosity::VisibilityReuse {
 struct GalerkinRadiosity::Move {
   std::vector<char> elementChanged, clusterChanged;  // re-posed, re-covered, refitted
   std::vector<char> movedPolygon;
-  std::vector<std::pair<PolygonId, PolygonId>> ranges;  // the moved objects' polygons
   std::vector<Box3> boxes;  // the moved objects' boxes before and after, grown (in that order)
   // The bounds at the last pose of what the move changed (the shafts the pairs' old candidates
   // came from): the re-posed elements', and every cluster's.

@@ -96,12 +96,22 @@ std::vector<PolygonId> GalerkinRadiosity::shaftCandidates(
   // Box-to-box shafts for every link: the polygon-to-polygon hull is tighter but cost a quarter
   // of the solve, and a segment is tested against each candidate's box before any ray anyway
   // (measured: the same rays, the same solution, 25% faster).
-  const Shaft shaft(bounds(r), bounds(s));
-  const PolygonId ownR = r.isElement() ? elements_[r.index].polygon : PolygonId(-1);
-  const PolygonId ownS = s.isElement() ? elements_[s.index].polygon : PolygonId(-1);
+  return candidatesIn(Shaft(bounds(r), bounds(s)), r, s, among);
+}
+
+std::pair<PolygonId, PolygonId> GalerkinRadiosity::ownPolygons(NodeRef r, NodeRef s) const {
+  return {r.isElement() ? elements_[r.index].polygon : PolygonId(-1),
+          s.isElement() ? elements_[s.index].polygon : PolygonId(-1)};
+}
+
+std::vector<PolygonId> GalerkinRadiosity::candidatesIn(const Shaft& shaft, NodeRef r, NodeRef s,
+                                                       const std::vector<PolygonId>& among,
+                                                       const std::vector<char>* skip) const {
+  const auto [ownR, ownS] = ownPolygons(r, s);
   std::vector<PolygonId> candidates;
   for (PolygonId id : among)
-    if (id != ownR && id != ownS && shaft.mayIntersect(polygonBounds_[id]))
+    if (id != ownR && id != ownS && !(skip && (*skip)[id]) &&
+        shaft.mayIntersect(polygonBounds_[id]))
       candidates.push_back(id);
   return candidates;
 }

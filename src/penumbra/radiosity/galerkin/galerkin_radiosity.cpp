@@ -276,7 +276,8 @@ std::optional<RadiositySample> GalerkinRadiosity::sample(const Vec3& point,
   const GElement& e = elements_[*leaf];
   // A point under a polygon lying on it face to face receives nothing (it reflects nothing and
   // emits what it emits), wherever the linear function of its partly covered leaf, fitted over
-  // the leaf's open part too, would say otherwise: the floor under a sofa read up to 0.4.
+  // the leaf's open part too, would say otherwise: the floor under the chair room's sofa read
+  // 0.09-0.87 at tolerance 3e-3.
   if (e.cover != GElement::kExposed && isCovered(e.polygon, point))
     return RadiositySample{Rgb{}, Rgb{}, e.node.emission};
   return RadiositySample{nonNegative(e.basis.evaluate(e.node.irradianceDirect, point)),

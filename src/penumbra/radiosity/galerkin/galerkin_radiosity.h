@@ -35,6 +35,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "penumbra/base/stopwatch.h"
@@ -49,6 +50,7 @@ namespace penumbra {
 class DynamicScene;
 struct Scene;
 class RayCaster;
+class Shaft;
 struct SceneChange;
 class UniformGrid;
 
@@ -358,6 +360,12 @@ class GalerkinRadiosity {
   // The polygons of `among` that may meet the link's shaft.
   std::vector<PolygonId> shaftCandidates(NodeRef r, NodeRef s,
                                          const std::vector<PolygonId>& among) const;
+  // The polygons of `among` that may meet `shaft`, but for the pair's own and those `skip` marks.
+  std::vector<PolygonId> candidatesIn(const Shaft& shaft, NodeRef r, NodeRef s,
+                                      const std::vector<PolygonId>& among,
+                                      const std::vector<char>* skip = nullptr) const;
+  // The polygons of the pair's element ends (-1 for a cluster end): never their own occluders.
+  std::pair<PolygonId, PolygonId> ownPolygons(NodeRef r, NodeRef s) const;
   double oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
                 double hiddenTransfer) const;
   // The oracle on a stored pair's estimate.
@@ -409,7 +417,9 @@ class GalerkinRadiosity {
   struct Move;
   // Re-poses the moved elements, re-covers, refits the clusters; nothing when the update cannot
   // follow the move (a rebuild then).
-  std::optional<Move> prepareMove(const SceneChange& change);
+  // `moved`: the moved polygons, ascending, with their bounds at the last pose.
+  std::optional<Move> prepareMove(const SceneChange& change,
+                                  const std::vector<std::pair<PolygonId, Box3>>& moved);
   // Walks the pairs from the root, re-estimating the met ones; new subtrees go to `fresh`.
   void walkPairs(const Move& move, Counters& counters, std::vector<RefineTask>& fresh);
   // The moved polygons of a pair's candidates, before the move (their old bounds, the pair's

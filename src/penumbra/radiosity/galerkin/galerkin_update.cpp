@@ -132,19 +132,17 @@ void GalerkinRadiosity::refreshEmission(NodeRef n) {
   cluster.emittedLobes = lobes;
 }
 
-std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(const SceneChange& change) {
+std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
+    const SceneChange& change, const std::vector<std::pair<PolygonId, Box3>>& moved) {
   Move move;
   move.elementChanged.assign(elements_.size(), 0);
   if (!reposeMovedObjects(change, move)) return std::nullopt;
   move.movedPolygon.assign(scene_.polygons.size(), 0);
-  for (const ObjectMove& m : change.moves) {
-    const PolygonId begin = scene_.objectFirstPolygon[m.object];
-    const PolygonId end = scene_.objectFirstPolygon[m.object + 1];
-    move.ranges.push_back({begin, end});
-    for (PolygonId p = begin; p < end; ++p) move.movedPolygon[p] = 1;
+  for (const auto& [id, box] : moved) {
+    move.movedPolygon[id] = 1;
+    move.movedIds.push_back(id);
+    move.movedBoundsBefore.push_back(box);
   }
-  for (PolygonId p = 0; p < PolygonId(move.movedPolygon.size()); ++p)
-    if (move.movedPolygon[p]) move.movedIds.push_back(p);
   std::vector<std::uint32_t> every(move.movedIds.size());
   for (size_t k = 0; k < every.size(); ++k) every[k] = std::uint32_t(k);
   move.everyMoved = std::make_shared<const std::vector<std::uint32_t>>(std::move(every));
@@ -207,8 +205,7 @@ GalerkinRadiosity::MovedPart GalerkinRadiosity::movedPart(const Move& move, Node
   if (among.empty()) return kNone;
   const Shaft shaft =
       before ? Shaft(boundsBefore(move, r), boundsBefore(move, s)) : Shaft(bounds(r), bounds(s));
-  const PolygonId ownR = r.isElement() ? elements_[r.index].polygon : PolygonId(-1);
-  const PolygonId ownS = s.isElement() ? elements_[s.index].polygon : PolygonId(-1);
+  const auto [ownR, ownS] = ownPolygons(r, s);
   std::vector<std::uint32_t> part;
   for (std::uint32_t k : among) {
     const PolygonId id = move.movedIds[k];
@@ -244,15 +241,8 @@ Box3 GalerkinRadiosity::boundsBefore(const Move& move, NodeRef n) const {
 std::vector<PolygonId> GalerkinRadiosity::staticCandidatesBefore(
     const Move& move, NodeRef r, NodeRef s, const std::vector<PolygonId>& among) const {
   // shaftCandidates at the last pose, without the moved polygons (whose old bounds are gone).
-  const Shaft shaft(boundsBefore(move, r), boundsBefore(move, s));
-  const PolygonId ownR = r.isElement() ? elements_[r.index].polygon : PolygonId(-1);
-  const PolygonId ownS = s.isElement() ? elements_[s.index].polygon : PolygonId(-1);
-  std::vector<PolygonId> candidates;
-  for (PolygonId id : among)
-    if (!move.movedPolygon[id] && id != ownR && id != ownS &&
-        shaft.mayIntersect(polygonBounds_[id]))
-      candidates.push_back(id);
-  return candidates;
+  return candidatesIn(Shaft(boundsBefore(move, r), boundsBefore(move, s)), r, s, among,
+                      &move.movedPolygon);
 }
 
 void GalerkinRadiosity::setState(GLink& link, GLink::State state) {
@@ -530,15 +520,18 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   };
   if (elements_.empty()) return rebuild("nothing was built");
   if (change.extentGrows) return rebuild("the scene's extent grew");
-  // The moved polygons' bounds at the last pose (the pairs' old candidates were filtered by
-  // them), in ascending order, before takeScene replaces them.
-  std::vector<std::pair<PolygonId, Box3>> movedBoundsBefore;
+  // The moved polygons, ascending, with their bounds at the last pose (the pairs' old candidates
+  // were filtered by them), before takeScene replaces them.
+  std::vector<std::pair<PolygonId, Box3>> moved;
   for (const ObjectMove& m : change.moves)
     for (PolygonId p = scene_.objectFirstPolygon[m.object];
          p < scene_.objectFirstPolygon[m.object + 1]; ++p)
-      movedBoundsBefore.emplace_back(p, polygonBounds_[p]);
-  std::sort(movedBoundsBefore.begin(), movedBoundsBefore.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
+      moved.emplace_back(p, polygonBounds_[p]);
+  const auto byId = [](const auto& a, const auto& b) { return a.first < b.first; };
+  std::sort(moved.begin(), moved.end(), byId);
+  moved.erase(std::unique(moved.begin(), moved.end(),
+                          [](const auto& a, const auto& b) { return a.first == b.first; }),
+              moved.end());
   takeScene(scene);
   stats_.refineSeconds = stats_.solveSeconds = 0;
   stats_.iterations = 0;
@@ -569,9 +562,8 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
 
   frameBudgeted_ = options_.frameBudgetSeconds > 0;
   // 1. The moved objects' elements, the covers contacts give, the cluster boxes.
-  std::optional<Move> move = prepareMove(change);
+  const std::optional<Move> move = prepareMove(change, moved);
   if (!move) return rebuild("a moved polygon's root elements changed (its triangulation)");
-  for (const auto& [id, box] : movedBoundsBefore) move->movedBoundsBefore.push_back(box);
   lastUpdate_.reposeSeconds = stage.lap();
 
   // 2. The walk from the root pair, wave by wave: the met pairs' estimates in parallel, then
