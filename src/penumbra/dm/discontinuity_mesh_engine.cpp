@@ -21,6 +21,7 @@
 #include "penumbra/dm/surface_casting.h"
 #include "penumbra/dm/surface_enumeration.h"
 #include "penumbra/spatial/receiver_locator.h"
+#include "penumbra/spatial/shaft.h"
 
 namespace penumbra {
 
@@ -192,15 +193,30 @@ void DiscontinuityMeshEngine::update(const DynamicScene& scene, const SceneChang
 }
 
 bool DiscontinuityMeshEngine::isCrossed(const Box3& region, const SceneChange& change) const {
-  // A face's backprojection, its verification and its answers at points read the polygons
-  // between the face and each light: within the box around the face and the light.
-  const double margin = 1e-9 * posed_->extent.diagonalLength();
+  // A face's backprojections, their verification and its answers at points are computed from the
+  // cones from points of the face to each light (ExactReference::visibleLight). A polygon enters
+  // such a computation only if its bounds overlap the cone's bounds, which lie in the box around
+  // the face and the light, and only if clipping it to the cone leaves a piece, which lies in the
+  // shaft from the face to the cones' base (the convex hull of the two boxes). A moved object
+  // that misses either, at its old and new pose, changes nothing there.
+  const double diagonal = posed_->extent.diagonalLength();
+  const double margin = 1e-9 * diagonal;
   for (PolygonId light : posed_->lights) {
-    Box3 shaft = region;
-    shaft.extend(posed_->polygons[light].bounds);
-    shaft = shaft.expanded(margin);
+    Box3 around = region;
+    around.extend(posed_->polygons[light].bounds);
+    around = around.expanded(margin);
+    // The clipping and the shaft's planes round by a few ulps of the coordinates, magnified where
+    // the cone is narrow (down to the light's diameter over the scene's): the shaft is kept that
+    // much wider, far below any gap the scenes hold.
+    const Box3 base = reference_->coneBaseBounds(light);
+    const double wide = margin * diagonal / std::max(base.diagonalLength(), 1e-300);
+    std::optional<Shaft> shaft;
     for (const ObjectMove& move : change.moves)
-      if (shaft.overlaps(move.boundsBefore) || shaft.overlaps(move.boundsAfter)) return true;
+      for (const Box3& bounds : {move.boundsBefore, move.boundsAfter}) {
+        if (!around.overlaps(bounds)) continue;
+        if (!shaft) shaft.emplace(region.expanded(wide), base.expanded(wide));
+        if (shaft->mayIntersect(bounds.expanded(wide))) return true;
+      }
   }
   return false;
 }

@@ -346,8 +346,8 @@ class DiscontinuityMeshEngine {
   // The computation over posed_ and grid_: everything (change null), or an update after `change`
   // that keeps the receivers whose inputs are unchanged (see update()).
   void compute(const SceneChange* change);
-  // Does the change move anything (old or new bounds) through the box around `region` and a
-  // light?
+  // Does the change move anything (old or new bounds) into the box around `region` and a light
+  // and into the shaft from `region` to that light's cones (where a point of `region` may see it)?
   bool isCrossed(const Box3& region, const SceneChange& change) const;
   // May an update keep the data of `face` (of the receiver's new data `now`), computed in the
   // frame before for a face with the same boundary vertices (whose receiver had the EEE

@@ -190,6 +190,13 @@ bool ExactReference::mayOcclude(const Vec3& p, const Vec3& n, PolygonId light,
   });
 }
 
+Box3 ExactReference::coneBaseBounds(PolygonId light) const {
+  // The hull's vertices h move to c + (h − c)(1 + m) with c inside the lit light: by at most m
+  // times the light's diameter, which its bounds' diagonal exceeds.
+  const Box3& bounds = scene_.polygons[light].bounds;
+  return bounds.expanded(kConeMargin * bounds.diagonalLength());
+}
+
 template <typename ForEachCandidate>
 VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const Polygon3& source,
                                            const Plane& lightPlane, PolygonId lightId,

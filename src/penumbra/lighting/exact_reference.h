@@ -65,6 +65,10 @@ class ExactReference {
   // visibleLight's result unchanged bit for bit (what the discontinuity mesh's update relies on to
   // keep a face's backprojections). The cone is built once for all the boxes.
   bool mayOcclude(const Vec3& p, const Vec3& n, PolygonId light, std::span<const Box3> boxes) const;
+  // The box every cone of visibleLight(·, ·, light) ends in: the light's bounds enlarged as each
+  // cone's hull of the lit light is (by its margin about the hull's centre). A polygon's piece
+  // inside the cone from p lies in the convex hull of p and this box.
+  Box3 coneBaseBounds(PolygonId light) const;
 
  private:
   // The clipping cone from p to the part of a light in front of p (nothing when no part is):

@@ -21,7 +21,7 @@
 #include "penumbra/radiosity/cluster.h"
 #include "penumbra/radiosity/element.h"
 #include "penumbra/radiosity/link.h"
-#include "penumbra/radiosity/shaft.h"
+#include "penumbra/spatial/shaft.h"
 #include "penumbra/scene/posed_scene.h"
 
 namespace penumbra {

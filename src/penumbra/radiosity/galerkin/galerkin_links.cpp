@@ -8,7 +8,7 @@
 #include "penumbra/base/check.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/point_form_factor.h"
-#include "penumbra/radiosity/shaft.h"
+#include "penumbra/spatial/shaft.h"
 #include "penumbra/spatial/ray_caster.h"
 
 namespace penumbra {

@@ -28,7 +28,7 @@
 
 #include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
-#include "penumbra/radiosity/shaft.h"
+#include "penumbra/spatial/shaft.h"
 #include "penumbra/scene/scene_change.h"
 #include "penumbra/spatial/ray_caster.h"
 

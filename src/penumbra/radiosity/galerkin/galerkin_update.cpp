@@ -27,7 +27,7 @@
 #include "penumbra/radiosity/face_contacts.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/hierarchy_building.h"
-#include "penumbra/radiosity/shaft.h"
+#include "penumbra/spatial/shaft.h"
 #include "penumbra/scene/scene_change.h"
 #include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/ray_caster.h"

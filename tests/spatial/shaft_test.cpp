@@ -1,4 +1,4 @@
-#include "penumbra/radiosity/shaft.h"
+#include "penumbra/spatial/shaft.h"
 
 #include <gtest/gtest.h>
 

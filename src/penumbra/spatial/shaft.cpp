@@ -5,7 +5,7 @@
 // outside the convex hull of the boxes; the plane through the two boxes' corresponding edges
 // (parallel to the third axis) cuts that corner off.
 
-#include "penumbra/radiosity/shaft.h"
+#include "penumbra/spatial/shaft.h"
 
 #include <algorithm>
 #include <cmath>
