@@ -416,6 +416,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // would read moved geometry, and which polygon examines an edge first could change).
   std::map<PolygonId, NonEmitterEvMemo> previousNonEmitter = std::move(nonEmitter_);
   nonEmitter_.clear();
+  std::map<PolygonId, CoplanarCrossingMemo> previousCoplanar = std::move(coplanarCrossings_);
+  coplanarCrossings_.clear();
   bool staticUnchanged = unchanged.has_value();
   for (size_t p = 0; staticUnchanged && p < scene.polygons.size(); ++p) {
     if (movedPolygons[p]) continue;
@@ -624,12 +626,23 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
              scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + afterCasting.size())))
       afterCasting.push_back(std::move(s));
     if (!options_.coplanarEdgeCrossings) continue;
-    for (DiscontinuitySurface& s :
-         coplanarEdgeCrossingSurfaces(scene, *adjacency_, *grid_, pairs, light,
-                                      SurfaceId(surfaces_.size() + afterCasting.size()))) {
+    // Offered on the non-emitter enumeration's terms: the same polygons, edges and light.
+    const auto before = previousCoplanar.find(light);
+    const std::optional<CoplanarCrossingReuse> coplanarReuse =
+        staticUnchanged && before != previousCoplanar.end()
+            ? std::optional<CoplanarCrossingReuse>(
+                  CoplanarCrossingReuse{before->second, unchanged->edges, movedIds})
+            : std::nullopt;
+    CoplanarCrossingMemo& memo = coplanarCrossings_[light];
+    for (DiscontinuitySurface& s : coplanarEdgeCrossingSurfaces(
+             scene, *adjacency_, *grid_, pairs, light,
+             SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
+             coplanarReuse ? &*coplanarReuse : nullptr)) {
       afterCasting.push_back(std::move(s));
       ++stats_.surfacesCoplanarEdgeCrossing;
     }
+    stats_.keptCoplanarPairs += memo.keptPairs;
+    stats_.examinedCoplanarPairs += memo.examinedPairs;
   }
   // The parallel-edge and coplanar-edge fans are planar surfaces like the EV ones (made from the
   // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
@@ -820,6 +833,12 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
     for (const auto& entries : memo.byVertex) {
       bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
       for (const auto& [polygon, surfaces] : entries)
+        bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
+    }
+  for (const auto& [light, memo] : coplanarCrossings_)
+    for (const CoplanarCrossingMemo::Pair& pair : memo.pairs) {
+      bytes += sizeof(pair) + pair.entries.capacity() * sizeof(pair.entries[0]);
+      for (const auto& [polygon, surfaces] : pair.entries)
         bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
     }
   for (const auto& pieces : visible_)

@@ -60,6 +60,9 @@ struct DmStats {
   // Vertices whose non-emitter EV surfaces were taken over (the vertex and the polygons in its
   // region's cells unchanged), and those examined.
   long long keptNonEmitterVertices = 0, examinedNonEmitterVertices = 0;
+  // Pairs of coplanar edges whose crossing surfaces were taken over (the pair and the polygons in
+  // its region's cells unchanged, moved ones examined again), and those examined.
+  long long keptCoplanarPairs = 0, examinedCoplanarPairs = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -376,6 +379,7 @@ class DiscontinuityMeshEngine {
   EeeCandidateMemo eeeCandidates_;   // what EEE enumeration found, for the next update
   std::vector<std::vector<DiscontinuitySegment>> visible_;  // each planar surface's, ditto
   std::map<PolygonId, NonEmitterEvMemo> nonEmitter_;        // by light, ditto
+  std::map<PolygonId, CoplanarCrossingMemo> coplanarCrossings_;  // by light, ditto
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;
 };

@@ -449,7 +449,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
 
 std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId) {
+    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId,
+    CoplanarCrossingMemo* memo, const CoplanarCrossingReuse* reuse) {
   const double reach = 2 * scene.extent.diagonalLength();
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
@@ -461,6 +462,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
   std::vector<DiscontinuitySurface> surfaces;
   std::vector<char> seen(adjacency.edges().size(), 0);
+  if (memo) memo->pairs.clear();
+  using Entries = std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>;
   for (const auto& pair : unique) {
     const EdgeId firstEdge = pair.first;
     const SceneEdge &first = adjacency.edges()[pair.first],
@@ -500,9 +503,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     const Box3 region{componentMax(byFirst.min, bySecond.min) - pad,
                       componentMin(byFirst.max, bySecond.max) + pad};
     if (region.isEmpty()) continue;
-    std::fill(seen.begin(), seen.end(), 0);
-    for (PolygonId id : grid.polygonsInBox(region)) {
-      if (id == light || std::count(touching.begin(), touching.end(), id)) continue;
+    // The surfaces through the edges of polygon `id` not examined before for this pair.
+    const auto examine = [&](PolygonId id, std::vector<DiscontinuitySurface>& out) {
       adjacency.forEachEdgeOf(id, [&](EdgeId edgeId) {
         if (seen[size_t(edgeId)]) return;
         seen[size_t(edgeId)] = 1;
@@ -519,19 +521,65 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
         };
         for (const auto& [w0, w1] : sideRanges(x, t0, t1, m, {a, b, c, d}, meetsBoth)) {
           DiscontinuitySurface s;
-          s.id = firstId + SurfaceId(surfaces.size());
           s.kind = SurfaceKind::kCoplanarEdgesOccluderCrossing;
           s.light = light;
           s.lightFeature = -1;
           s.occluderFeature = edgeId;
           s.secondFeature = firstEdge;
           s.hingePolygons = touching;
-          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(),
+                                 edge.polygons.end());
           s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, {{a, b}, {c, d}}};
-          surfaces.push_back(std::move(s));
+          out.push_back(std::move(s));
         }
       });
+    };
+    const auto examined = [&](PolygonId id, Entries& entries) {
+      if (id == light || std::count(touching.begin(), touching.end(), id)) return;
+      entries.push_back({id, {}});
+      examine(id, entries.back().second);
+      if (entries.back().second.empty()) entries.pop_back();
+    };
+    std::fill(seen.begin(), seen.end(), 0);
+    Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
+    const CoplanarCrossingMemo::Pair* before = nullptr;
+    if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
+        reuse->unchangedEdges[size_t(pair.second)]) {
+      const auto& kept = reuse->before.pairs;
+      const auto it = std::lower_bound(
+          kept.begin(), kept.end(), pair, [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
+            return std::pair(k.first, k.second) < p;
+          });
+      if (it != kept.end() && it->first == pair.first && it->second == pair.second) before = &*it;
     }
+    if (before) {
+      // The same edges, light and region: the polygons that did not move are listed in the same
+      // cells and give what they gave (sharing no edge with a moved one, they examine the same
+      // edges first); a moved polygon listed in the region's cells now is examined again.
+      Entries moved;
+      for (PolygonId id : reuse->movedPolygons)
+        if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
+      size_t k = 0;
+      for (const auto& entry : before->entries) {
+        if (std::binary_search(reuse->movedPolygons.begin(), reuse->movedPolygons.end(),
+                               entry.first))
+          continue;
+        for (; k < moved.size() && moved[k].first < entry.first; ++k)
+          entries.push_back(std::move(moved[k]));
+        entries.push_back(entry);
+      }
+      for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
+      if (memo) ++memo->keptPairs;
+    } else {
+      for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
+      if (memo) ++memo->examinedPairs;
+    }
+    for (const auto& [id, found] : entries)
+      for (DiscontinuitySurface s : found) {
+        s.id = firstId + SurfaceId(surfaces.size());
+        surfaces.push_back(std::move(s));
+      }
+    if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(entries)});
   }
   return surfaces;
 }

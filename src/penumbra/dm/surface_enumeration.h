@@ -71,13 +71,35 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
                                                        const std::vector<CoplanarEdgePair>& pairs,
                                                        PolygonId light, SurfaceId firstId);
 
+// What the coplanar-edge crossing enumeration found for each pair of edges, kept for the next
+// frame: by pair (ascending), the polygons listed in the pair's region whose edges, first
+// examined there, gave surfaces, with those surfaces (ids unset). A pair's surfaces are a
+// function of its two edges, the light and the polygons listed in the grid cells of its region.
+struct CoplanarCrossingMemo {
+  struct Pair {
+    EdgeId first = 0, second = 0;
+    std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>> entries;
+  };
+  std::vector<Pair> pairs;
+  long long keptPairs = 0, examinedPairs = 0;
+};
+// How to read the frame before's memo, offered on the same terms as NonEmitterEvReuse: a pair
+// whose two edges are flagged in `unchangedEdges` keeps what the unmoved polygons gave it, and
+// the moved polygons (`movedPolygons`, ascending) listed in its region's cells are examined again.
+struct CoplanarCrossingReuse {
+  const CoplanarCrossingMemo& before;
+  const std::vector<char>& unchangedEdges;
+  const std::vector<PolygonId>& movedPolygons;
+};
+
 // For each pair's plane (each pair once, whatever its light edge) that cuts the light, and every
 // other occluder edge crossing that plane at X, the lines of the plane through X that meet the
 // light's trace in the plane and both edges (SurfaceKind::kCoplanarEdgesOccluderCrossing).
 // Candidate edges come from the grid cells around the shaft from the light through the pair.
 std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId);
+    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId,
+    CoplanarCrossingMemo* memo = nullptr, const CoplanarCrossingReuse* reuse = nullptr);
 
 // For every light-vertex EV fan (cast: its stored intersections filled) whose occluder edge lies
 // in one plane with a light edge at that vertex, and every point X where another polygon's
