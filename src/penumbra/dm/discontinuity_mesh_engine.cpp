@@ -562,11 +562,12 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       EeeSurface& s = eeeSurfaces_[k];
       EeeTrace trace;
       trace.key = eeeKeyOf(s);
-      const EeeTrace* kept = nullptr;
+      // Taken over, not copied: each trace of the frame before is read once at most.
+      EeeTrace* kept = nullptr;
       if (mayKeepTraces) {
         const auto [from, until] = previousByKey.equal_range(trace.key.hash());
         for (auto it = from; it != until && !kept; ++it) {
-          const EeeTrace& before = previousTraces[it->second];
+          EeeTrace& before = previousTraces[it->second];
           if (before.key == trace.key &&
               (std::none_of(before.cells.begin(), before.cells.end(),
                             [&](int cell) { return movedCells[cell] != 0; }) ||
@@ -579,11 +580,12 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         }
       }
       if (kept) {
-        s.cells = kept->cells;
+        s.cells = std::move(kept->cells);
         s.truncated = kept->truncated;
-        crossed = kept->crossed;
-        trace.segments = kept->segments;
-        trace.lines = kept->lines;
+        crossed = std::move(kept->crossed);
+        trace.segments = std::move(kept->segments);
+        trace.lines = std::move(kept->lines);
+        kept->key = {};  // moved from: matches nothing any more
         for (DiscontinuitySegment& segment : trace.segments) segment.surface = s.id;
         ++stats_.keptTraces;
       } else {
@@ -634,10 +636,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                   CoplanarCrossingReuse{before->second, unchanged->edges, movedIds})
             : std::nullopt;
     CoplanarCrossingMemo& memo = coplanarCrossings_[light];
-    for (DiscontinuitySurface& s : coplanarEdgeCrossingSurfaces(
-             scene, *adjacency_, *grid_, pairs, light,
-             SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
-             coplanarReuse ? &*coplanarReuse : nullptr)) {
+    for (DiscontinuitySurface& s :
+         coplanarEdgeCrossingSurfaces(scene, *adjacency_, *grid_, pairs, light,
+                                      SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
+                                      coplanarReuse ? &*coplanarReuse : nullptr)) {
       afterCasting.push_back(std::move(s));
       ++stats_.surfacesCoplanarEdgeCrossing;
     }

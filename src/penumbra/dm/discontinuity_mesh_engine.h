@@ -377,8 +377,8 @@ class DiscontinuityMeshEngine {
   std::vector<EeeSurface> eeeSurfaces_;
   std::vector<EeeTrace> eeeTraces_;  // one per EEE surface, for the next update
   EeeCandidateMemo eeeCandidates_;   // what EEE enumeration found, for the next update
-  std::vector<std::vector<DiscontinuitySegment>> visible_;  // each planar surface's, ditto
-  std::map<PolygonId, NonEmitterEvMemo> nonEmitter_;        // by light, ditto
+  std::vector<std::vector<DiscontinuitySegment>> visible_;       // each planar surface's, ditto
+  std::map<PolygonId, NonEmitterEvMemo> nonEmitter_;             // by light, ditto
   std::map<PolygonId, CoplanarCrossingMemo> coplanarCrossings_;  // by light, ditto
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;

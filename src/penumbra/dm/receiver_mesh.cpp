@@ -759,18 +759,14 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   for (SurfaceId id : removed)
     if (const auto it = m.slotOf.find(id); it != m.slotOf.end())
       removedSlot[size_t(it->second)] = 1;
+  const auto isRemoved = [&](int slot) { return removedSlot[size_t(slot)] != 0; };
   for (auto e = m.arrangement.edges_begin(); e != m.arrangement.edges_end(); ++e) {
     const auto& data = e->curve().data();
-    bool lost = false;
+    // Most edges keep all their surfaces: their names are not copied (a list, allocated per name).
+    if (std::none_of(data.begin(), data.end(), isRemoved)) continue;
     Traits::Data_container names;
-    for (int slot : data) {
-      if (removedSlot[size_t(slot)]) {
-        lost = true;
-        continue;
-      }
-      names.insert(slot);
-    }
-    if (!lost) continue;
+    for (int slot : data)
+      if (!isRemoved(slot)) names.insert(slot);
     touched.push_back(e->source());
     touched.push_back(e->target());
     if (names.size() == 0) {

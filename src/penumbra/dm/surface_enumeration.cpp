@@ -527,15 +527,25 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
           s.occluderFeature = edgeId;
           s.secondFeature = firstEdge;
           s.hingePolygons = touching;
-          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(),
-                                 edge.polygons.end());
+          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
           s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, {{a, b}, {c, d}}};
           out.push_back(std::move(s));
         }
       });
     };
+    // A polygon whose bounds lie wholly on one side of the pair's plane (past what rounding m and
+    // the distances could move) has no edge crossing it: skipped without the exact tests, as
+    // examining it would find nothing (an edge it shares is found, or not, the same way later).
+    const double mLength = length(m);
+    const auto whollyOnOneSide = [&](const Box3& box) {
+      const Vec3 centre = (box.min + box.max) * 0.5, half = (box.max - box.min) * 0.5;
+      const double d = dot(m, centre - a);
+      const double r = std::abs(m.x) * half.x + std::abs(m.y) * half.y + std::abs(m.z) * half.z;
+      return std::abs(d) > r + 1e-9 * mLength * (length(centre - a) + length(half));
+    };
     const auto examined = [&](PolygonId id, Entries& entries) {
       if (id == light || std::count(touching.begin(), touching.end(), id)) return;
+      if (whollyOnOneSide(scene.polygons[id].bounds)) return;
       entries.push_back({id, {}});
       examine(id, entries.back().second);
       if (entries.back().second.empty()) entries.pop_back();
@@ -546,10 +556,10 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
         reuse->unchangedEdges[size_t(pair.second)]) {
       const auto& kept = reuse->before.pairs;
-      const auto it = std::lower_bound(
-          kept.begin(), kept.end(), pair, [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
-            return std::pair(k.first, k.second) < p;
-          });
+      const auto it = std::lower_bound(kept.begin(), kept.end(), pair,
+                                       [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
+                                         return std::pair(k.first, k.second) < p;
+                                       });
       if (it != kept.end() && it->first == pair.first && it->second == pair.second) before = &*it;
     }
     if (before) {
