@@ -688,18 +688,29 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     std::vector<DiscontinuitySegment> segments;
     // Segments end where events meet, computed apart: extend their ends (see extended()). The
     // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they are.
-    std::map<std::pair<SurfaceId, std::array<double, 3>>, int> ends;
+    // An end is open when no other segment of its surface ends there: counted in one sorted
+    // list (a map of counts allocated a node per end, thousands on a floor, every frame).
+    using EndKey = std::pair<SurfaceId, std::array<double, 3>>;
     const auto endKey = [](const DiscontinuitySegment& s, const Vec3& p) {
-      return std::pair{s.surface, std::array<double, 3>{p.x, p.y, p.z}};
+      return EndKey{s.surface, std::array<double, 3>{p.x, p.y, p.z}};
     };
-    for (const DiscontinuitySegment& segment : perReceiver[receiver.id]) {
-      ++ends[endKey(segment, segment.p0)];
-      ++ends[endKey(segment, segment.p1)];
+    const std::vector<DiscontinuitySegment>& onReceiver = perReceiver[receiver.id];
+    std::vector<EndKey> ends;
+    ends.reserve(2 * onReceiver.size());
+    for (const DiscontinuitySegment& segment : onReceiver) {
+      ends.push_back(endKey(segment, segment.p0));
+      ends.push_back(endKey(segment, segment.p1));
     }
+    std::sort(ends.begin(), ends.end());
+    const auto isOpen = [&](const EndKey& key) {
+      const auto [from, to] = std::equal_range(ends.begin(), ends.end(), key);
+      return to - from == 1;
+    };
     const double by = kSegmentExtension * scene.extent.diagonalLength();
-    for (const DiscontinuitySegment& segment : perReceiver[receiver.id]) {
-      const bool open0 = ends[endKey(segment, segment.p0)] == 1;
-      const bool open1 = ends[endKey(segment, segment.p1)] == 1;
+    segments.reserve(onReceiver.size());
+    for (const DiscontinuitySegment& segment : onReceiver) {
+      const bool open0 = isOpen(endKey(segment, segment.p0));
+      const bool open1 = isOpen(endKey(segment, segment.p1));
       segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
     }
     // Segments no surface makes are extended at both ends. Contact lines end exactly at occluder
