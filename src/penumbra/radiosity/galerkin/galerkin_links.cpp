@@ -8,8 +8,8 @@
 #include "penumbra/base/check.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/point_form_factor.h"
-#include "penumbra/spatial/shaft.h"
 #include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/shaft.h"
 
 namespace penumbra {
 
@@ -143,6 +143,9 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       sourceCovered[j] = (elements_[s.index].coveredPoints >> j) & 1u;
   // The exact point form factors at the receiver's points, lowest and highest (elements only).
   double lowestForm = std::numeric_limits<double>::infinity(), highestForm = 0;
+  // The largest transfer a cover took away: a partly covered element whose cubature points all
+  // lie under the covering polygon reads zero everywhere, while the rest of it may be in the open.
+  double coveredHighest = 0;
   for (int i = 0; i < receiver.count; ++i) {
     const Vec3& x = receiver.points[i];
     double cubatureSum = 0;
@@ -162,10 +165,11 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       highestForm = std::max(highestForm, exact);
       for (int j = 0; j < source.count; ++j)
         transfers[i][j] = cubatureSum > 0 ? transfers[i][j] * (exact / cubatureSum) : exact;
-      if (receiverCovered[i])
-        for (int j = 0; j < source.count; ++j) transfers[i][j] = 0;
       for (int j = 0; j < source.count; ++j)
-        if (sourceCovered[j]) transfers[i][j] = 0;
+        if (receiverCovered[i] || sourceCovered[j]) {
+          coveredHighest = std::max(coveredHighest, transfers[i][j]);
+          transfers[i][j] = 0;
+        }
     } else {
       // A pair's transfer is at most what a source facing the receiver wholly would send (1, in
       // units of the cluster cosines): where the points nearly meet the bare kernel would send
@@ -270,6 +274,10 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       e.spread = std::max(e.spread, highestForm - lowestForm);
     }
   }
+  // Over a partly covered end the transfer runs from nothing (under the cover) to what the
+  // covered points would receive in the open: the spread a linear function cannot follow, so that
+  // refinement splits along the contact's outline even where no cubature point is in the open.
+  e.spread = std::max(e.spread, coveredHighest);
   e.hiddenTransfer = hiddenTransfer;
   // A cluster end's coefficient in its own units: per unit of the exitance a source cluster's
   // lobes send (B A, so without its area and cosine), as the flux density arriving at a receiver
