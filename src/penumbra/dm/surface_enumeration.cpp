@@ -93,6 +93,37 @@ std::vector<std::array<double, 2>> pivotRanges(const Vec3& pivot, const Vec3& t0
   });
 }
 
+// Surfaces by the polygon whose edges gave them, in polygon order (what the memos keep).
+using PolygonEntries = std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>;
+
+// A memo's entries from the frame before without those of the moved polygons (`movedPolygons`,
+// ascending), merged in polygon order with `moved`, the moved polygons' entries examined again:
+// the entries a fresh examination of every polygon would give, where the unmoved ones share no
+// edge with a moved one.
+PolygonEntries mergedWithMoved(const PolygonEntries& kept, PolygonEntries moved,
+                               const std::vector<PolygonId>& movedPolygons) {
+  PolygonEntries entries;
+  size_t k = 0;
+  for (const auto& entry : kept) {
+    if (std::binary_search(movedPolygons.begin(), movedPolygons.end(), entry.first)) continue;
+    for (; k < moved.size() && moved[k].first < entry.first; ++k)
+      entries.push_back(std::move(moved[k]));
+    entries.push_back(entry);
+  }
+  for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
+  return entries;
+}
+
+// Appends the entries' surfaces to `surfaces`, numbered on from firstId.
+void appendNumbered(const PolygonEntries& entries, SurfaceId firstId,
+                    std::vector<DiscontinuitySurface>& surfaces) {
+  for (const auto& [id, found] : entries)
+    for (DiscontinuitySurface s : found) {
+      s.id = firstId + SurfaceId(surfaces.size());
+      surfaces.push_back(std::move(s));
+    }
+}
+
 }  // namespace
 
 std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& scene,
@@ -194,14 +225,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
       }
     }
   };
-  using Entries = std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>;
-  const auto emit = [&](const Entries& entries) {
-    for (const auto& [id, found] : entries)
-      for (DiscontinuitySurface s : found) {
-        s.id = firstId + SurfaceId(surfaces.size());
-        surfaces.push_back(std::move(s));
-      }
-  };
+  using Entries = PolygonEntries;
 
   for (size_t vi = 0; vi < adjacency.vertices().size(); ++vi) {
     const SceneVertex& vertex = adjacency.vertices()[vi];
@@ -225,16 +249,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
           examine(vi, id, moved.back().second);
           if (moved.back().second.empty()) moved.pop_back();
         }
-      size_t k = 0;
-      for (const auto& entry : reuse->before.byVertex[vi]) {
-        if (std::binary_search(reuse->movedPolygons.begin(), reuse->movedPolygons.end(),
-                               entry.first))
-          continue;
-        for (; k < moved.size() && moved[k].first < entry.first; ++k)
-          entries.push_back(std::move(moved[k]));
-        entries.push_back(entry);
-      }
-      for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
+      entries = mergedWithMoved(reuse->before.byVertex[vi], std::move(moved), reuse->movedPolygons);
       if (memo) ++memo->keptVertices;
     } else {
       for (PolygonId id : grid.polygonsInBox(region)) {
@@ -245,7 +260,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
       }
       if (memo) ++memo->examinedVertices;
     }
-    emit(entries);
+    appendNumbered(entries, firstId, surfaces);
     if (memo) memo->byVertex[vi] = std::move(entries);
   }
   return surfaces;
@@ -463,7 +478,7 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   std::vector<DiscontinuitySurface> surfaces;
   std::vector<char> seen(adjacency.edges().size(), 0);
   if (memo) memo->pairs.clear();
-  using Entries = std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>;
+  using Entries = PolygonEntries;
   for (const auto& pair : unique) {
     const EdgeId firstEdge = pair.first;
     const SceneEdge &first = adjacency.edges()[pair.first],
@@ -569,26 +584,13 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       Entries moved;
       for (PolygonId id : reuse->movedPolygons)
         if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
-      size_t k = 0;
-      for (const auto& entry : before->entries) {
-        if (std::binary_search(reuse->movedPolygons.begin(), reuse->movedPolygons.end(),
-                               entry.first))
-          continue;
-        for (; k < moved.size() && moved[k].first < entry.first; ++k)
-          entries.push_back(std::move(moved[k]));
-        entries.push_back(entry);
-      }
-      for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
+      entries = mergedWithMoved(before->entries, std::move(moved), reuse->movedPolygons);
       if (memo) ++memo->keptPairs;
     } else {
       for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
       if (memo) ++memo->examinedPairs;
     }
-    for (const auto& [id, found] : entries)
-      for (DiscontinuitySurface s : found) {
-        s.id = firstId + SurfaceId(surfaces.size());
-        surfaces.push_back(std::move(s));
-      }
+    appendNumbered(entries, firstId, surfaces);
     if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(entries)});
   }
   return surfaces;
