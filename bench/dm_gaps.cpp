@@ -233,6 +233,7 @@ int main(int argc, char** argv) {
         return "planar" + std::to_string(int(engine.surfaces()[id].kind));
       if (id >= 0) return "eee";
       if (id == ReceiverMesh::kBoundary) return "outline";
+      if (id == ReceiverMesh::kTile) return "tile";
       const int k = ReceiverMesh::kBoundary - 1 - id, n = int(posed.polygons.size());
       return k < n ? "contact" : k < 2 * n ? "light-plane" : "horizon";
     };

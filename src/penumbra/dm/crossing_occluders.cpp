@@ -31,6 +31,7 @@ bool CrossingOccluders::addNamedPolygons(const std::vector<SurfaceId>& surfaces,
       }
       continue;
     }
+    if (id == ReceiverMesh::kTile) continue;  // a tiling line: no event, names no polygon
     // Below the outline's id the engine numbers contact lines (-2 - p), light planes
     // (-2 - N - light), then horizons (-2 - 2N - light); see discontinuity_mesh_engine.cpp.
     const SurfaceId k = ReceiverMesh::kBoundary - 1 - id;

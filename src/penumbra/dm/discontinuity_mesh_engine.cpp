@@ -747,14 +747,16 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         sameEee && !moved && sameSegmentGeometry(before->inputs, segments, renamed);
     const bool editMesh = before && !moved && !keepMesh;
     const double snap = kSegmentSnap * scene.extent.diagonalLength();
-    ReceiverData data =
-        keepMesh ? std::move(*before)
-                 : ReceiverData{editMesh ? std::move(before->mesh) : ReceiverMesh(receiver),
-                                {},
-                                SegmentProximity(eee),
-                                {},
-                                eee,
-                                {}};
+    const double diagonal = scene.extent.diagonalLength();
+    ReceiverData data = keepMesh
+                            ? std::move(*before)
+                            : ReceiverData{editMesh ? std::move(before->mesh)
+                                                    : ReceiverMesh(receiver, kTileShare * diagonal),
+                                           {},
+                                           SegmentProximity(eee),
+                                           {},
+                                           eee,
+                                           {}};
     SegmentProximity eeeBefore;
     std::vector<FaceData> oldFaceData;
     std::vector<int> previousFace;  // each face's index in the frame before, or -1
@@ -1240,7 +1242,10 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
     if (!sign || *sign == 0) return std::nullopt;
     return *sign > 0;
   };
-  const auto isEee = [&](SurfaceId id) { return id >= SurfaceId(surfaces_.size()); };
+  // Tiling lines are no events: walks and searches cross them as they cross EEE polylines.
+  const auto crossable = [&](SurfaceId id) {
+    return id >= SurfaceId(surfaces_.size()) || id == ReceiverMesh::kTile;
+  };
   // The face of witness w holds p when the walk from p to w crosses no event but EEE polylines,
   // and p lies on w's side of every conic that may pass between them (within the walk's length
   // and the chord tolerance of p). Sides are compared near p only: a quadric's zero set reaches
@@ -1270,7 +1275,7 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
     // starts a little off p towards w instead.
     std::optional<MeshWalk> walk = data.mesh.walk(located, p, w);
     const auto onlyEeeCrossed = [&] {
-      return std::all_of(walk->surfaces.begin(), walk->surfaces.end(), isEee);
+      return std::all_of(walk->surfaces.begin(), walk->surfaces.end(), crossable);
     };
     if (!walk || !onlyEeeCrossed()) {
       const Vec3 start = p + (w - p) * (offStart / distance(p, w));
@@ -1311,7 +1316,7 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
   // straight event), on rings around p of growing radius.
   const double offset = 2 * nearEee();
   const auto onlyEee = [&](const std::vector<SurfaceId>& ids) {
-    return !ids.empty() && std::all_of(ids.begin(), ids.end(), isEee);
+    return !ids.empty() && std::all_of(ids.begin(), ids.end(), crossable);
   };
   std::vector<int> queue{located};
   for (size_t next = 0; next < queue.size(); ++next)

@@ -148,6 +148,9 @@ class DiscontinuityMeshEngine {
   // then the next fraction, farther in. A face whose corners all lie beside polylines is then
   // still verified, as its labels answer points beside them (facesBySides).
   static constexpr std::array<double, 4> kCornerInsets{1e-3, 1e-2, 1e-1, 0.5};
+  // Receivers longer than twice this share of the scene's (frame-invariant) diagonal are tiled by
+  // fixed lines at least this far apart (ReceiverMesh's tileSize).
+  static constexpr double kTileShare = 0.125;
   // Faces narrower than about this fraction of the scene's size are slivers, left unverified.
   static constexpr double kSliverSize = 1e-7;
 

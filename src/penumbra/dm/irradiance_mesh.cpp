@@ -195,8 +195,9 @@ IrradianceMesh buildIrradianceMesh(const DiscontinuityMeshEngine& engine, double
       }
     }
     for (const auto& [segment, surfaces] : mesh->edges())
-      if (std::any_of(surfaces.begin(), surfaces.end(),
-                      [](SurfaceId id) { return id != ReceiverMesh::kBoundary; }))
+      if (std::any_of(surfaces.begin(), surfaces.end(), [](SurfaceId id) {
+            return id != ReceiverMesh::kBoundary && id != ReceiverMesh::kTile;
+          }))
         out.edges.push_back(segment);
   }
   return out;

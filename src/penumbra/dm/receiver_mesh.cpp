@@ -89,6 +89,8 @@ struct ReceiverMesh::Impl {
   // The receiver's outline, and whether the arrangement still holds nothing else (see insert()).
   std::vector<Traits::Curve_2> boundary;
   std::vector<std::array<double, 6>> boundarySources;  // each outline edge's ends
+  // The tiling lines (slot 1, kTile): in every build, never snapped to nor removed.
+  std::vector<Traits::Curve_2> tiles;
   bool onlyBoundary = true;
 
   Point toPoint(const Vec3& p) const {
@@ -121,8 +123,8 @@ struct ReceiverMesh::Impl {
   // Edges carry slots, each naming one surface here: a surface's id is its position in the
   // frame's list, which shifts from frame to frame, and renaming it rewrites one entry of this
   // table instead of every edge it lies on. Slot 0 is the outline's.
-  std::vector<SurfaceId> slotSurface{kBoundary};
-  std::unordered_map<SurfaceId, int> slotOf{{kBoundary, 0}};
+  std::vector<SurfaceId> slotSurface{kBoundary, kTile};
+  std::unordered_map<SurfaceId, int> slotOf{{kBoundary, 0}, {kTile, 1}};
   std::vector<int> freeSlots;
   int slotFor(SurfaceId surface) {
     const auto [it, added] = slotOf.try_emplace(surface, 0);
@@ -139,8 +141,8 @@ struct ReceiverMesh::Impl {
     return it->second;
   }
   void clearSlots() {
-    slotSurface.assign(1, kBoundary);
-    slotOf = {{kBoundary, 0}};
+    slotSurface = {kBoundary, kTile};
+    slotOf = {{kBoundary, 0}, {kTile, 1}};
     freeSlots.clear();
   }
   // Renames surfaces (old id to new, one to one; a permutation is fine) and forgets `dropped`,
@@ -227,6 +229,7 @@ struct ReceiverMesh::Impl {
   void sweep(std::vector<Traits::Curve_2> curves) {
     detachLocator();
     curves.insert(curves.end(), boundary.begin(), boundary.end());
+    curves.insert(curves.end(), tiles.begin(), tiles.end());
     arrangement.clear();
     vertices.clear();
     indexed.clear();
@@ -540,7 +543,8 @@ struct ReceiverMesh::Impl {
   }
 };
 
-ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver) : impl_(std::make_unique<Impl>()) {
+ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver, double tileSize)
+    : impl_(std::make_unique<Impl>()) {
   impl_->receiver = receiver.id;
   impl_->plane = receiver.plane;
   impl_->frame = PlaneFrame::fromPlane(receiver.plane, receiver.vertices[0]);
@@ -555,7 +559,29 @@ ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver) : impl_(std::make_uniqu
                &q = receiver.vertices[(i + 1) % receiver.vertices.size()];
     impl_->boundarySources.push_back({p.x, p.y, p.z, q.x, q.y, q.z});
   }
-  CGAL::insert(impl_->arrangement, boundary.begin(), boundary.end());
+  if (tileSize > 0) {
+    Vec2 low{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    Vec2 high = low * -1.0;
+    for (const Vec2& q : impl_->outline) {
+      low = {std::min(low.x, q.x), std::min(low.y, q.y)};
+      high = {std::max(high.x, q.x), std::max(high.y, q.y)};
+    }
+    // Lines across axis `k` of the frame (x = const for k = 0), spanning the other axis.
+    for (int k = 0; k < 2; ++k) {
+      const double from = k == 0 ? low.x : low.y, to = k == 0 ? high.x : high.y;
+      const double acrossFrom = k == 0 ? low.y : low.x, acrossTo = k == 0 ? high.y : high.x;
+      const int tilesAlong = int(std::floor((to - from) / tileSize));
+      for (int i = 1; i < tilesAlong; ++i) {
+        const double at = from + (to - from) * double(i) / double(tilesAlong);
+        const Point a = k == 0 ? Point(at, acrossFrom) : Point(acrossFrom, at);
+        const Point b = k == 0 ? Point(at, acrossTo) : Point(acrossTo, at);
+        impl_->tiles.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), 1));  // kTile's slot
+      }
+    }
+  }
+  std::vector<Traits::Curve_2> curves = boundary;
+  curves.insert(curves.end(), impl_->tiles.begin(), impl_->tiles.end());
+  CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
   impl_->indexFaces();
 }
 
@@ -740,7 +766,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     if (stats) stats->rebuilt = true;
     m.rememberFaces(m.faceHandles);
     std::vector<Traits::Curve_2> curves;
-    curves.reserve(now.size() + m.boundary.size());
+    curves.reserve(now.size() + m.boundary.size() + m.tiles.size());
     m.clearSlots();
     for (const Piece& p : now) curves.push_back(m.curveOf(p));
     m.sweep(std::move(curves));
@@ -811,10 +837,11 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
       addEnd(p.a);
       addEnd(p.b);
     }
-  for (const auto& curve : m.boundary) {
-    addEnd(curve.source());
-    addEnd(curve.target());
-  }
+  for (const auto* fixed : {&m.boundary, &m.tiles})
+    for (const auto& curve : *fixed) {
+      addEnd(curve.source());
+      addEnd(curve.target());
+    }
   std::sort(ends.begin(), ends.end(), [](const End& a, const End& b) { return a.lo < b.lo; });
   double widest = 0;
   for (const End& e : ends) widest = std::max(widest, e.hi - e.lo);

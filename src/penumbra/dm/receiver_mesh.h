@@ -7,6 +7,7 @@
 //
 // CGAL stays inside receiver_mesh.cpp: this header only uses Penumbra's types.
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -46,9 +47,17 @@ struct MeshWalk {
 class ReceiverMesh {
  public:
   static constexpr SurfaceId kBoundary = -1;
+  // The fixed lines tiling a large receiver (no event: the irradiance is smooth across them).
+  static constexpr SurfaceId kTile = std::numeric_limits<SurfaceId>::min();
 
-  // The mesh starts as the receiver polygon alone.
-  explicit ReceiverMesh(const WorldPolygon& receiver);
+  // The mesh starts as the receiver polygon alone, crossed where it is longer than 2 tileSize
+  // (when positive) by lines at equal spacing of at least tileSize along both axes of its
+  // plane's frame, from side to side of its bounds: a face of the mesh then holds a few shadow
+  // islands as holes instead of every island of a large floor (hundreds in a 10,000-polygon
+  // room), and inserting an edit's pieces, which scans the holes of each face it splits, costs
+  // what the change costs. The lines are a function of the polygon alone, so every build of the
+  // mesh holds the same ones.
+  explicit ReceiverMesh(const WorldPolygon& receiver, double tileSize = 0);
   ~ReceiverMesh();
   ReceiverMesh(ReceiverMesh&&) noexcept;
   ReceiverMesh& operator=(ReceiverMesh&&) noexcept;
