@@ -62,6 +62,27 @@ double areaMean(const ElementShape& shape, const std::function<double(const Vec3
   return (4 * midpointMean(shape, f, 5) - midpointMean(shape, f, 4)) / 3;
 }
 
+GalerkinOptions atTolerance(double tolerance) {
+  GalerkinOptions options;
+  options.tolerance = tolerance;
+  return options;
+}
+
+// A bundled scene at frame 0, solved at `tolerance`, with the exact reference of its direct light.
+struct SolvedScene {
+  SolvedScene(const std::string& relative, double tolerance)
+      : scene(loadScene(scenePath(relative))),
+        live(scene, 0),
+        solver(atTolerance(tolerance)),
+        exact(live.posed(), &live.grid()) {
+    solver.build(live);
+  }
+  const Scene scene;
+  const DynamicScene live;
+  GalerkinRadiosity solver;
+  const ExactReference exact;
+};
+
 struct Spread {
   double median = 0, p95 = 0;
 };
@@ -230,13 +251,9 @@ TEST(GalerkinRadiosity, FurnaceReachesIntoNarrowGaps) {
 // irradiance where the exact direct part alone is 0.66-0.84). A partly covered end's spread now
 // takes what the cover took away, and refinement follows the contact's outline.
 TEST(GalerkinRadiosity, FloorBesideAContactIsLit) {
-  const Scene scene = loadScene(scenePath("chair-room/chair-room.json"));
-  const DynamicScene live(scene, 0);
-  GalerkinOptions options;
-  options.tolerance = 1e-3;
-  GalerkinRadiosity solver(options);
-  solver.build(live);
-  const ExactReference exact(live.posed(), &live.grid());
+  const SolvedScene room("chair-room/chair-room.json", 1e-3);
+  const GalerkinRadiosity& solver = room.solver;
+  const ExactReference& exact = room.exact;
   const Vec3 up{0, 1, 0};
   double direct = 0, reference = 0;
   for (const double x : {3.95, 4.0, 4.05, 4.1, 4.2, 4.3}) {
@@ -259,13 +276,10 @@ TEST(GalerkinRadiosity, FloorBesideAContactIsLit) {
 // The direct part against the exact reference (the light clipped at each point), at random
 // receiver points of the Cornell box.
 TEST(GalerkinRadiosity, DirectLightAgreesWithTheExactReference) {
-  const Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
-  const DynamicScene live(scene, 0);
-  GalerkinOptions options;
-  options.tolerance = 1e-3;
-  GalerkinRadiosity solver(options);
-  solver.build(live);
-  const ExactReference exact(live.posed(), &live.grid());
+  const SolvedScene box("cornell-box/cornell-box.json", 1e-3);
+  const DynamicScene& live = box.live;
+  const GalerkinRadiosity& solver = box.solver;
+  const ExactReference& exact = box.exact;
   std::vector<double> errors;
   double mean = 0;
   const auto points = sampleReceiverPoints(live.posed(), 300, 11);
@@ -373,13 +387,9 @@ TEST(GalerkinRadiosity, IdenticalForAnyNumberOfThreads) {
 // whatever the linear functions of the floor's partly covered leaves say there (they read up to
 // 0.4 a centimetre inside the edge); just outside, the floor is lit.
 TEST(GalerkinRadiosity, NothingArrivesUnderAPolygonLyingOnTheReceiver) {
-  const Scene scene = loadScene(scenePath("chair-room/chair-room.json"));
-  const DynamicScene live(scene, 0);
-  GalerkinOptions options;
-  options.tolerance = 3e-3;
-  GalerkinRadiosity solver(options);
-  solver.build(live);
-  const ExactReference reference(live.posed(), &live.grid());
+  const SolvedScene room("chair-room/chair-room.json", 3e-3);
+  const GalerkinRadiosity& solver = room.solver;
+  const ExactReference& reference = room.exact;
   const Vec3 up{0, 1, 0};
   for (const Vec3& under : {Vec3{0.4, 0, 2.6}, Vec3{0.84, 0, 2.0}, Vec3{0.8, 0, 3.39},
                             Vec3{0.02, 0, 1.81}, Vec3{0.849, 0, 3.0}}) {

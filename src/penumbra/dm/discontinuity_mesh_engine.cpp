@@ -706,7 +706,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       const auto [from, to] = std::equal_range(ends.begin(), ends.end(), key);
       return to - from == 1;
     };
-    const double by = kSegmentExtension * scene.extent.diagonalLength();
+    const double diagonal = scene.extent.diagonalLength();
+    const double by = kSegmentExtension * diagonal;
     segments.reserve(onReceiver.size());
     for (const DiscontinuitySegment& segment : onReceiver) {
       const bool open0 = isOpen(endKey(segment, segment.p0));
@@ -746,8 +747,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     const bool keepMesh =
         sameEee && !moved && sameSegmentGeometry(before->inputs, segments, renamed);
     const bool editMesh = before && !moved && !keepMesh;
-    const double snap = kSegmentSnap * scene.extent.diagonalLength();
-    const double diagonal = scene.extent.diagonalLength();
+    const double snap = kSegmentSnap * diagonal;
     ReceiverData data = keepMesh
                             ? std::move(*before)
                             : ReceiverData{editMesh ? std::move(before->mesh)

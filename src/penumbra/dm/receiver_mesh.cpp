@@ -89,7 +89,7 @@ struct ReceiverMesh::Impl {
   // The receiver's outline, and whether the arrangement still holds nothing else (see insert()).
   std::vector<Traits::Curve_2> boundary;
   std::vector<std::array<double, 6>> boundarySources;  // each outline edge's ends
-  // The tiling lines (slot 1, kTile): in every build, never snapped to nor removed.
+  // The tiling lines (kTile): in every build, never snapped to nor removed.
   std::vector<Traits::Curve_2> tiles;
   bool onlyBoundary = true;
 
@@ -122,9 +122,11 @@ struct ReceiverMesh::Impl {
   std::vector<Piece> pieces;
   // Edges carry slots, each naming one surface here: a surface's id is its position in the
   // frame's list, which shifts from frame to frame, and renaming it rewrites one entry of this
-  // table instead of every edge it lies on. Slot 0 is the outline's.
-  std::vector<SurfaceId> slotSurface{kBoundary, kTile};
-  std::unordered_map<SurfaceId, int> slotOf{{kBoundary, 0}, {kTile, 1}};
+  // table instead of every edge it lies on. The fixed curves have slots of their own, set by
+  // clearSlots().
+  static constexpr int kOutlineSlot = 0, kTileSlot = 1;
+  std::vector<SurfaceId> slotSurface;
+  std::unordered_map<SurfaceId, int> slotOf;
   std::vector<int> freeSlots;
   int slotFor(SurfaceId surface) {
     const auto [it, added] = slotOf.try_emplace(surface, 0);
@@ -142,7 +144,7 @@ struct ReceiverMesh::Impl {
   }
   void clearSlots() {
     slotSurface = {kBoundary, kTile};
-    slotOf = {{kBoundary, 0}, {kTile, 1}};
+    slotOf = {{kBoundary, kOutlineSlot}, {kTile, kTileSlot}};
     freeSlots.clear();
   }
   // Renames surfaces (old id to new, one to one; a permutation is fine) and forgets `dropped`,
@@ -545,6 +547,7 @@ struct ReceiverMesh::Impl {
 
 ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver, double tileSize)
     : impl_(std::make_unique<Impl>()) {
+  impl_->clearSlots();
   impl_->receiver = receiver.id;
   impl_->plane = receiver.plane;
   impl_->frame = PlaneFrame::fromPlane(receiver.plane, receiver.vertices[0]);
@@ -554,7 +557,7 @@ ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver, double tileSize)
     const Point a = impl_->toPoint(receiver.vertices[i]);
     const Point b = impl_->toPoint(receiver.vertices[(i + 1) % receiver.vertices.size()]);
     if (a == b) continue;
-    boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), 0));  // the outline's slot
+    boundary.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), Impl::kOutlineSlot));
     const Vec3 &p = receiver.vertices[i],
                &q = receiver.vertices[(i + 1) % receiver.vertices.size()];
     impl_->boundarySources.push_back({p.x, p.y, p.z, q.x, q.y, q.z});
@@ -575,7 +578,7 @@ ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver, double tileSize)
         const double at = from + (to - from) * double(i) / double(tilesAlong);
         const Point a = k == 0 ? Point(at, acrossFrom) : Point(acrossFrom, at);
         const Point b = k == 0 ? Point(at, acrossTo) : Point(acrossTo, at);
-        impl_->tiles.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), 1));  // kTile's slot
+        impl_->tiles.push_back(Traits::Curve_2(SegmentTraits::Curve_2(a, b), Impl::kTileSlot));
       }
     }
   }
