@@ -10,10 +10,12 @@
 // unresolved.
 //
 // Usage: dm_exactness [--points N] [--propagate on|off] [--walked] [--only S] [--verified-only]
+// [--show]
 // (N per scene and copy, default 2000; --propagate sets DmOptions::propagateBackprojections, else
 // its default; --walked: the moving scenes only, their engine built at frame 0 and updated through
 // every frame, the points compared at the last frame's pose; --only: the scenes whose name
-// contains S; --verified-only: only the second run, the engine's default) Also the midpoint of
+// contains S; --verified-only: only the second run, the engine's default; --show: each differing
+// edge midpoint, with its edge, value and the reference's) Also the midpoint of
 // every event edge of every mesh (where events meet, and the polylines' chords stand farthest
 // from their conics), answered by the mesh or not, and compared likewise. Prints one line per
 // scene and copy with its slowest query (and where, past 0.1 s), then the totals; exits 0 (a
@@ -47,6 +49,8 @@ using namespace penumbra;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+bool showDiffering = false;  // --show: print each differing edge midpoint
 
 // A 4 x 3 x 4 room (y up) with a 1.2 m square light under the ceiling and four boxes turned about
 // random axes at random heights: wide penumbrae that overlap, EEE events everywhere.
@@ -228,8 +232,16 @@ void compareEdgeMidpoints(const DiscontinuityMeshEngine& engine, const PosedScen
       }
       ++tally.edgeByMesh;
       const Rgb expected = reference.irradiance(p, receiver.plane.normal, receiver.id);
-      if (relativeError(answered->irradiance, expected, brightestExitance(posed)) > 1e-9)
+      if (relativeError(answered->irradiance, expected, brightestExitance(posed)) > 1e-9) {
         ++tally.edgeDiffer;
+        if (showDiffering)
+          std::printf(
+              "  midpoint on %d (%.17g %.17g %.17g) of (%.12g %.12g %.12g)-(%.12g %.12g "
+              "%.12g): %.12g, reference %.12g\n",
+              receiver.id, p.x, p.y, p.z, segment.first.x, segment.first.y, segment.first.z,
+              segment.second.x, segment.second.y, segment.second.z, answered->irradiance.r,
+              expected.r);
+      }
     }
   }
 }
@@ -303,6 +315,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--walked")) walked = true;
     if (!std::strcmp(argv[i], "--verified-only")) verifiedOnly = true;
+    if (!std::strcmp(argv[i], "--show")) showDiffering = true;
   }
   std::string only;  // --only S: the scenes whose name contains S
   for (int i = 1; i + 1 < argc; ++i) {

@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <optional>
 #include <random>
 
 #include "penumbra/dm/eee_surfaces.h"
@@ -73,6 +77,81 @@ TEST(EeeSide, ExactSignAgreesWithTheRoundedValueWhereThatIsCertain) {
   EXPECT_GT(compared, 1900);
   EXPECT_GT(positive, 100);  // both sides visited
   EXPECT_LT(positive, compared - 100);
+}
+
+// eeeQuadricCrossings against the exact side sign sampled densely along the segment (sign changes
+// counted over 1,024 steps): random segments of the floor, where the quadric's conic is a
+// hyperbola, so that a segment may cross it twice with equal sides at its ends.
+TEST(EeeQuadricCrossings, CountsTheSignChangesAlongTheSegment) {
+  const ThreeSkewEdges s;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-6, 6);
+  int compared = 0, uncertain = 0;
+  std::array<int, 3> byCount{};
+  for (int k = 0; k < 300; ++k) {
+    const Vec3 a{u(rng), u(rng), 0}, b{u(rng), u(rng), 0};
+    int changes = 0;
+    std::optional<int> previous;
+    bool defined = true;
+    constexpr int kSteps = 1024;
+    for (int i = 0; i <= kSteps && defined; ++i) {
+      const auto sign =
+          exactEeeSideSign(s.surface, s.scene, s.adjacency, a + (b - a) * (double(i) / kSteps));
+      if (!sign || *sign == 0) defined = false;
+      if (!defined) break;
+      if (previous && *previous != *sign) ++changes;
+      previous = sign;
+    }
+    if (!defined) continue;
+    const std::optional<int> counted = eeeQuadricCrossings(s.surface, s.scene, s.adjacency, a, b);
+    if (!counted) {
+      ++uncertain;
+      continue;
+    }
+    ASSERT_LE(changes, 2) << "a quadric's conic meets a line at most twice";
+    EXPECT_EQ(*counted, changes) << a.x << " " << a.y << " to " << b.x << " " << b.y;
+    ++compared;
+    ++byCount[size_t(changes)];
+  }
+  std::printf(
+      "[ info     ] %d segments compared (%d, %d, %d crossing 0, 1, 2 times), %d uncertain\n",
+      compared, byCount[0], byCount[1], byCount[2], uncertain);
+  EXPECT_GT(compared, 250);
+  EXPECT_LE(uncertain, 3);
+  EXPECT_GT(byCount[0], 20);
+  EXPECT_GT(byCount[1], 20);
+  EXPECT_GT(byCount[2], 20);
+}
+
+// From a point on the quadric (its side unknown in doubles), the crossing there is not counted;
+// the segment's other crossing is, when it has one.
+TEST(EeeQuadricCrossings, LeaveOutTheCrossingAtAStartOnTheQuadric) {
+  const ThreeSkewEdges s;
+  const Vec3 on{4, -2, 0};
+  int withOther = 0, without = 0;
+  for (int d = 0; d < 64; ++d) {
+    const double angle = d * std::numbers::pi / 32 + 0.05;
+    const Vec3 b = on + Vec3{std::cos(angle), std::sin(angle), 0} * 3;
+    int changes = 0;
+    std::optional<int> previous;
+    bool defined = true;
+    constexpr int kSteps = 1024;
+    for (int i = 1; i <= kSteps && defined; ++i) {
+      const auto sign =
+          exactEeeSideSign(s.surface, s.scene, s.adjacency, on + (b - on) * (double(i) / kSteps));
+      if (!sign || *sign == 0) defined = false;
+      if (!defined) break;
+      if (previous && *previous != *sign) ++changes;
+      previous = sign;
+    }
+    if (!defined) continue;
+    const std::optional<int> counted = eeeQuadricCrossings(s.surface, s.scene, s.adjacency, on, b);
+    if (!counted) continue;
+    EXPECT_EQ(*counted, changes) << "towards " << angle;
+    ++(changes ? withOther : without);
+  }
+  EXPECT_GT(withOther, 4);
+  EXPECT_GT(without, 20);
 }
 
 }  // namespace

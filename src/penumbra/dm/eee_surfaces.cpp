@@ -825,6 +825,88 @@ double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdj
 
 namespace {
 
+// The quadric of three lines as a polynomial of degree two in p, with a bound on its rounding. The
+// transversal through p meeting the first two lines is where the planes through p and each of them
+// meet: normals n_i = (a_i - p) x d_i and offsets c_i = n_i . a_i (both linear in p), direction
+// n_1 x n_2 and moment c_2 n_1 - c_1 n_2 (quadratic); its Plücker side product with the third
+// line vanishes exactly where it meets that line, so on the quadric (and nowhere else: a
+// polynomial of degree two vanishing on a quadric is a multiple of its equation).
+struct QuadricValue {
+  double value = 0, rounding = 0;
+};
+QuadricValue quadricAt(const std::array<Vec3, 6>& ends, const Vec3& p) {
+  const Vec3 a1 = ends[0], d1 = ends[1] - ends[0], a2 = ends[2], d2 = ends[3] - ends[2],
+             a3 = ends[4], d3 = ends[5] - ends[4];
+  const Vec3 n1 = cross(a1 - p, d1), n2 = cross(a2 - p, d2);
+  const double c1 = dot(n1, a1), c2 = dot(n2, a2);
+  const Vec3 m3 = cross(a3, d3);
+  const double direction = dot(cross(n1, n2), m3);
+  const double moment = c2 * dot(d3, n1) - c1 * dot(d3, n2);
+  // Each term is a product of a few roundings of products of scene-sized numbers: 1e-12 of the
+  // terms' sizes bounds them generously (a bound too large only makes a count uncertain).
+  const double size = length(n1) * length(n2) * length(m3) +
+                      (std::abs(c2) * length(n1) + std::abs(c1) * length(n2)) * length(d3);
+  return {direction + moment, 1e-12 * size};
+}
+
+}  // namespace
+
+std::optional<int> eeeQuadricCrossings(const EeeSurface& surface, const PosedScene& scene,
+                                       const EdgeAdjacency& adjacency, const Vec3& a,
+                                       const Vec3& b) {
+  const std::array<Vec3, 6> ends = lineEnds(surface, scene, adjacency);
+  const QuadricValue f0 = quadricAt(ends, a), fh = quadricAt(ends, (a + b) * 0.5),
+                     f1 = quadricAt(ends, b);
+  // q(s) = A s^2 + B s + C along the segment, from its values at 0, 1/2 and 1.
+  const double A = 2 * f1.value - 4 * fh.value + 2 * f0.value;
+  const double B = f1.value - f0.value - A;
+  const double C = f0.value;
+  const double errorA = 2 * f1.rounding + 4 * fh.rounding + 2 * f0.rounding;
+  const double errorB = f1.rounding + f0.rounding + errorA;
+  const double errorC = f0.rounding;
+  const auto certainSign = [](double value, double error) -> std::optional<int> {
+    if (!(std::abs(value) > error)) return std::nullopt;
+    return value > 0 ? 1 : -1;
+  };
+  const std::optional<int> atEnd = certainSign(f1.value, f1.rounding);
+  if (!atEnd) return std::nullopt;
+  const std::optional<int> atStart = certainSign(C, errorC);
+  if (!atStart) {
+    // A root at a (within rounding); the other one at -B/A less it (the roots sum to -B/A), which
+    // must lie certainly outside (0, 1] or inside it.
+    if (!certainSign(B, errorB)) return std::nullopt;
+    if (std::abs(A) <= errorA) {
+      // Nearly linear: the other root lies beyond |B| / |A| >= |B| / errorA.
+      return std::abs(B) > 2 * errorA ? std::optional(0) : std::nullopt;
+    }
+    const double other = -B / A + C / B;
+    const double margin = 1e-6 + (errorA / std::abs(A) + errorB / std::abs(B)) * std::abs(B / A) +
+                          errorC / std::abs(B);
+    if (other < -margin || other > 1 + margin) return 0;
+    if (other > margin && other < 1 - margin) return 1;
+    return std::nullopt;
+  }
+  // A quadratic whose ends have opposite signs has one root between them.
+  if (*atStart != *atEnd) return 1;
+  // Ends of one sign: none, or two about the extremum, if it lies between and has the other sign.
+  if (std::abs(A) <= errorA) {
+    // Within rounding of a line: q stands within |A| / 4 of the chord between its ends.
+    return std::abs(C) > errorA / 4 + errorC && std::abs(f1.value) > errorA / 4 + f1.rounding
+               ? std::optional(0)
+               : std::nullopt;
+  }
+  const double vertex = -B / (2 * A);
+  if (vertex <= 0 || vertex >= 1) return 0;
+  const double extremum = C - B * B / (4 * A);
+  const double errorExtremum =
+      4 * (errorC + std::abs(B) * errorB / (2 * std::abs(A)) + B * B * errorA / (4 * A * A));
+  const std::optional<int> atVertex = certainSign(extremum, errorExtremum);
+  if (!atVertex) return std::nullopt;
+  return *atVertex != *atStart ? 2 : 0;
+}
+
+namespace {
+
 // Integer vectors: the doubles of one evaluation scaled by one power of two (exact), so that the
 // sign of a homogeneous polynomial in them is the sign for the doubles themselves.
 struct IntegerVec3 {

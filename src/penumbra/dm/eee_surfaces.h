@@ -62,6 +62,16 @@ double eeeSide(const EeeSurface& surface, const PosedScene& scene, const EdgeAdj
 std::optional<int> exactEeeSideSign(const EeeSurface& surface, const PosedScene& scene,
                                     const EdgeAdjacency& adjacency, const Vec3& p);
 
+// How many times the straight segment from a to b crosses the surface's quadric (the points
+// through which a line meets its three lines), not counting a crossing within rounding of a (where
+// a lies on the quadric, or its side is too close to call in doubles): 0, 1 or 2. Along a segment
+// the quadric's equation is a polynomial of degree two in the segment's parameter, so three values
+// of it give every crossing, also the two of a segment that leaves a side and comes back (where its
+// sides at a and b agree). Nothing where rounding could change the count.
+std::optional<int> eeeQuadricCrossings(const EeeSurface& surface, const PosedScene& scene,
+                                       const EdgeAdjacency& adjacency, const Vec3& a,
+                                       const Vec3& b);
+
 // What enumeration found in each EV surface's cuts, kept for the next frame (the paper's
 // intersection lists, carried one step further): the candidates a cut polygon's edges form with
 // a surface's generator features are a function of those edges, the generators and the light
