@@ -330,8 +330,11 @@ class DiscontinuityMeshEngine {
   struct EeeKey {
     PolygonId light = 0;
     int kind = 0, lightEdge = -1;
-    std::vector<Vec3> ends;                        // each occluder edge's two ends
-    std::vector<std::vector<PolygonId>> incident;  // each occluder edge's polygons
+    // Each occluder edge's two ends (two or three edges; the rest zero), and its polygons, each
+    // edge's list ended by -1: one allocation per key (there are one per EEE surface, made
+    // again every frame).
+    std::array<Vec3, 6> ends{};
+    std::vector<PolygonId> incident;
     bool operator==(const EeeKey&) const = default;
     std::size_t hash() const {
       std::size_t h = std::size_t(light) * 31 + std::size_t(kind) * 7 + std::size_t(lightEdge + 1);

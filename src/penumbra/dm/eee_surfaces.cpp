@@ -8,8 +8,8 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
-#include <unordered_set>
 
+#include "penumbra/base/flat_set.h"
 #include "penumbra/dm/parameter_ranges.h"
 #include "penumbra/geometry/predicates.h"
 
@@ -617,9 +617,9 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     if (validRanges(lightEdge, first, second).empty()) return std::nullopt;
     return EeeCandidate{l, i, j, -1, false};
   };
-  std::unordered_set<std::uint64_t> emitted;
+  FlatSet<std::uint64_t, IdentityHash> emitted;
   const auto emit = [&](const EeeCandidate& c) {
-    if (!emitted.insert(keyOf(c.lightEdge, c.a, c.b)).second) return;
+    if (!emitted.insert(keyOf(c.lightEdge, c.a, c.b))) return;
     if (c.coplanar) {
       if (coplanar) coplanar->push_back({c.lightEdge, c.a, c.b});
       return;
@@ -629,6 +629,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
   // Every range of critical lines ends on a line through a light vertex or an occluder edge's
   // endpoint (validRanges), and such a line lies in the emitter EV fan of that vertex, where the
   // other edge's polygon cuts the fan: the fans' stored intersections hold every pair.
+  FlatSet<std::uint64_t, IdentityHash> here;  // the keys seen in one cut polygon
   for (size_t index = 0; index < evSurfaces.size(); ++index) {
     const DiscontinuitySurface& s = evSurfaces[index];
     if (s.light != light) continue;
@@ -648,14 +649,14 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
       continue;
     }
     const auto find = [&](PolygonId polygon, std::vector<EeeCandidate>& found) {
-      std::unordered_set<std::uint64_t> here;
+      here.clear();
       adjacency.forEachEdgeOf(polygon, [&](EdgeId j) {
         for (auto [l, i] : generators) {
           EdgeId a = i, b = j;
           if (a == b) continue;
           if (b < a) std::swap(a, b);
           const std::uint64_t key = keyOf(l, a, b);
-          if (!here.insert(key).second) continue;
+          if (!here.insert(key)) continue;
           auto it = decided.find(key);
           if (it == decided.end()) it = decided.emplace(key, decide(l, a, b)).first;
           if (it->second) found.push_back(*it->second);
@@ -688,10 +689,10 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
                       {adjacency.position(b.a), adjacency.position(b.b)}, planeTolerance);
   };
   struct TripleHash {
-    size_t operator()(const std::array<EdgeId, 3>& e) const {
+    std::uint64_t operator()(const std::array<EdgeId, 3>& e) const {
       std::uint64_t h = 0;
       for (EdgeId id : e) h = (h ^ std::uint64_t(std::uint32_t(id))) * 0x100000001b3ull;
-      return size_t(h ^ (h >> 29));
+      return h ^ (h >> 29);
     }
   };
   // What a triple of edges is: a function of the three alone, decided once.
@@ -713,24 +714,25 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
     return !LineFamily(surface, scene, adjacency).ranges().empty();
   };
   // The candidates among (i, j, k) for each k, each triple once.
+  FlatSet<std::array<EdgeId, 3>, TripleHash> here;  // the triples seen in one cut polygon
   const auto findAll = [&](std::vector<std::array<EdgeId, 2>> pairs, PolygonId polygon,
                            std::vector<EeeCandidate>& found) {
-    std::unordered_set<std::array<EdgeId, 3>, TripleHash> here;
+    here.clear();
     adjacency.forEachEdgeOf(polygon, [&](EdgeId k) {
       for (auto [i, j] : pairs) {
         if (i < 0 || j < 0 || i == j || j == k || i == k) continue;
         std::array<EdgeId, 3> e{i, j, k};
         std::sort(e.begin(), e.end());
-        if (!here.insert(e).second) continue;
+        if (!here.insert(e)) continue;
         auto it = decided.find(e);
         if (it == decided.end()) it = decided.emplace(e, decide(e)).first;
         if (it->second) found.push_back({-1, e[0], e[1], e[2], false});
       }
     });
   };
-  std::unordered_set<std::array<EdgeId, 3>, TripleHash> emitted;
+  FlatSet<std::array<EdgeId, 3>, TripleHash> emitted;
   const auto emit = [&](const EeeCandidate& c) {
-    if (!emitted.insert({c.a, c.b, c.c}).second) return;
+    if (!emitted.insert({c.a, c.b, c.c})) return;
     surfaces.push_back(surfaceOf(c, light, firstId + SurfaceId(surfaces.size())));
   };
   // Ranges ending on a line through an occluder vertex v: it lies in the non-emitter EV fan of v
