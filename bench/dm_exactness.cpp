@@ -10,12 +10,13 @@
 // unresolved.
 //
 // Usage: dm_exactness [--points N] [--propagate on|off] [--walked] [--only S] [--verified-only]
-// [--show]
+// [--show] [--corners]
 // (N per scene and copy, default 2000; --propagate sets DmOptions::propagateBackprojections, else
 // its default; --walked: the moving scenes only, their engine built at frame 0 and updated through
 // every frame, the points compared at the last frame's pose; --only: the scenes whose name
 // contains S; --verified-only: only the second run, the engine's default; --show: each differing
-// edge midpoint, with its edge, value and the reference's) Also the midpoint of
+// edge midpoint, with its edge, value and the reference's; --corners: also points around every
+// contact corner, 24 directions at 1e-9 to 1e-4 of the scene) Also the midpoint of
 // every event edge of every mesh (where events meet, and the polylines' chords stand farthest
 // from their conics), answered by the mesh or not, and compared likewise. Prints one line per
 // scene and copy with its slowest query (and where, past 0.1 s), then the totals; exits 0 (a
@@ -51,6 +52,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 bool showDiffering = false;  // --show: print each differing edge midpoint
+bool probeCorners = false;   // --corners: probe around contact corners too
 
 // A 4 x 3 x 4 room (y up) with a 1.2 m square light under the ceiling and four boxes turned about
 // random axes at random heights: wide penumbrae that overlap, EEE events everywhere.
@@ -138,6 +140,7 @@ int triangulate(Scene& scene) {
 struct Tally {
   long long points = 0, differ = 0, byMesh = 0;
   long long edgeMidpoints = 0, edgeDiffer = 0, edgeByMesh = 0, edgeOnContacts = 0;
+  long long cornerProbes = 0, cornerDiffer = 0;
   std::map<DiscontinuityMeshEngine::Answer, long long> edgeAtPoint;  // why the others were not
   double worst = 0;
   double slowestSeconds = 0;  // the slowest single query and where it was
@@ -246,6 +249,46 @@ void compareEdgeMidpoints(const DiscontinuityMeshEngine& engine, const PosedScen
   }
 }
 
+// Around every contact corner (an occluder's vertex on a receiver, the polygons not coplanar),
+// in 24 directions at distances 1e-9 to 1e-4 of the scene, the points inside the receiver: there
+// every event through the occluder's edges standing on the receiver meets, thin faces fan out
+// separated by EEE polylines alone, and one side's limit is not the other's.
+void probeContactCorners(const DiscontinuityMeshEngine& engine, const PosedScene& posed,
+                         const ExactReference& reference, Tally& tally) {
+  const double size = posed.extent.diagonalLength(), onPlane = 1e-9 * size;
+  for (const WorldPolygon& q : posed.polygons) {
+    if (q.isLight) continue;
+    for (const Vec3& corner : q.vertices)
+      for (const WorldPolygon& r : posed.polygons) {
+        if (r.id == q.id || r.isLight || !r.bounds.expanded(onPlane).contains(corner)) continue;
+        if (std::abs(dot(q.plane.normal, r.plane.normal)) > 1 - 1e-12) continue;
+        if (std::abs(r.plane.signedDistance(corner)) > onPlane) continue;
+        const PlaneFrame frame = PlaneFrame::fromPlane(r.plane, r.plane.project(corner));
+        Polygon2 loop;
+        for (const Vec3& v : r.vertices) loop.push_back(frame.toLocal(v));
+        for (double distance = 1e-9 * size; distance < 2e-4 * size; distance *= 10)
+          for (int d = 0; d < 24; ++d) {
+            const double angle = d * M_PI / 12 + 0.01;
+            const Vec2 local{distance * std::cos(angle), distance * std::sin(angle)};
+            if (!containsPoint(loop, local)) continue;
+            const Vec3 x = frame.toWorld(local);
+            const auto answered = timedQuery(engine, x, r.plane.normal, tally);
+            if (!answered) continue;
+            ++tally.cornerProbes;
+            const Rgb expected = reference.irradiance(x, r.plane.normal, r.id);
+            if (relativeError(answered->irradiance, expected, brightestExitance(posed)) <= 1e-9)
+              continue;
+            ++tally.cornerDiffer;
+            if (showDiffering)
+              std::printf(
+                  "  beside corner on %d (%.17g %.17g %.17g): %.12g (answer %d), "
+                  "reference %.12g\n",
+                  r.id, x.x, x.y, x.z, answered->irradiance.r, int(answered->answer), expected.r);
+          }
+      }
+  }
+}
+
 Tally compare(const std::string& name, const Scene& scene, int points, std::uint64_t seed,
               bool verifyFaces, bool propagate, bool walked) {
   const auto start = Clock::now();
@@ -290,6 +333,7 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
     }
   }
   compareEdgeMidpoints(engine, posed, reference, tally);
+  if (probeCorners) probeContactCorners(engine, posed, reference, tally);
   const DmStats& s = engine.stats();
   char slowest[120] = "";
   if (tally.slowestSeconds > 0.1)
@@ -316,6 +360,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--walked")) walked = true;
     if (!std::strcmp(argv[i], "--verified-only")) verifiedOnly = true;
     if (!std::strcmp(argv[i], "--show")) showDiffering = true;
+    if (!std::strcmp(argv[i], "--corners")) probeCorners = true;
   }
   std::string only;  // --only S: the scenes whose name contains S
   for (int i = 1; i + 1 < argc; ++i) {
@@ -381,6 +426,8 @@ int main(int argc, char** argv) {
         total.edgeDiffer += t->edgeDiffer;
         total.edgeByMesh += t->edgeByMesh;
         total.edgeOnContacts += t->edgeOnContacts;
+        total.cornerProbes += t->cornerProbes;
+        total.cornerDiffer += t->cornerDiffer;
         for (const auto& [answer, count] : t->edgeAtPoint) total.edgeAtPoint[answer] += count;
       }
       totalTriangulated.points += b.points;
@@ -400,6 +447,9 @@ int main(int argc, char** argv) {
         total.edgeDiffer, total.edgeOnContacts);
     for (const auto& [answer, count] : total.edgeAtPoint)
       std::printf("  answered at the point, %s: %lld\n", answerName(answer), count);
+    if (probeCorners)
+      std::printf("beside contact corners (both copies): %lld of %lld points differ\n",
+                  total.cornerDiffer, total.cornerProbes);
   }
   return 0;
 }
