@@ -267,24 +267,35 @@ std::size_t fanHash(const DiscontinuitySurface& s) {
 
 // Do two receivers' inputs hold the same segments in the same order (geometry, bit for bit)? The
 // surfaces that made them may sit at other positions in this frame's list (surfaces before them
-// appeared or vanished): `renamed` gets each old id's new one, which must be one to one.
+// appeared or vanished): `renamed` gets each old id's new one where they differ, which must be one
+// to one. (Sorted pairs, not maps: this runs for every receiver every frame, and a map's node per
+// surface was an allocation per segment of the scene.)
 bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
                          const std::vector<DiscontinuitySegment>& now,
-                         std::map<SurfaceId, SurfaceId>& renamed) {
+                         ReceiverMesh::Renaming& renamed) {
   renamed.clear();
   if (before.size() != now.size()) return false;
-  std::map<SurfaceId, SurfaceId> inverse;
+  ReceiverMesh::Renaming pairs;  // (old, new) for every segment
+  pairs.reserve(now.size());
   for (size_t i = 0; i < now.size(); ++i) {
     const DiscontinuitySegment& a = before[i];
     const DiscontinuitySegment& b = now[i];
     if (a.receiver != b.receiver || a.p0 != b.p0 || a.p1 != b.p1 || a.u0 != b.u0 || a.u1 != b.u1)
       return false;
-    const auto [to, added] = renamed.emplace(a.surface, b.surface);
-    const auto [from, back] = inverse.emplace(b.surface, a.surface);
-    if (to->second != b.surface || from->second != a.surface) return false;
+    pairs.push_back({a.surface, b.surface});
   }
-  for (auto it = renamed.begin(); it != renamed.end();)
-    it = it->first == it->second ? renamed.erase(it) : std::next(it);
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  // One to one: no old id twice (with two new ones), and no new id twice.
+  for (size_t i = 1; i < pairs.size(); ++i)
+    if (pairs[i].first == pairs[i - 1].first) return false;
+  std::vector<SurfaceId> targets;
+  targets.reserve(pairs.size());
+  for (const auto& [from, to] : pairs) targets.push_back(to);
+  std::sort(targets.begin(), targets.end());
+  if (std::adjacent_find(targets.begin(), targets.end()) != targets.end()) return false;
+  for (const auto& entry : pairs)
+    if (entry.first != entry.second) renamed.push_back(entry);
   return true;
 }
 
@@ -772,7 +783,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     // nothing moved into the cones they read (keepsFaceData).
     const auto beforeIt = change ? previous.find(receiver.id) : previous.end();
     ReceiverData* before = beforeIt != previous.end() ? &beforeIt->second : nullptr;
-    std::map<SurfaceId, SurfaceId> renamed;
+    ReceiverMesh::Renaming renamed;
     const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
     const bool sameEee = before && before->eeeInputs == eee;
     const bool keepMesh =

@@ -149,8 +149,7 @@ struct ReceiverMesh::Impl {
   }
   // Renames surfaces (old id to new, one to one; a permutation is fine) and forgets `dropped`,
   // whose slots no edge carries any more.
-  void renameSlots(const std::map<SurfaceId, SurfaceId>& renamed,
-                   const std::set<SurfaceId>& dropped) {
+  void renameSlots(const ReceiverMesh::Renaming& renamed, const std::set<SurfaceId>& dropped) {
     std::vector<std::pair<int, SurfaceId>> moves;
     for (const auto& [from, to] : renamed)
       if (const auto it = slotOf.find(from); it != slotOf.end()) {
@@ -804,7 +803,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
       m.arrangement.modify_edge(e, Traits::X_monotone_curve_2(e->curve(), names));
     }
   }
-  m.renameSlots(renamed, removed);
+  m.renameSlots(ReceiverMesh::Renaming(renamed.begin(), renamed.end()), removed);
   {
     std::vector<Arrangement::Face_const_handle> around;
     for (auto e : doomed) {
@@ -875,11 +874,15 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   return m.indexFaces();
 }
 
-void ReceiverMesh::renumberSurfaces(const std::map<SurfaceId, SurfaceId>& renamed) {
+void ReceiverMesh::renumberSurfaces(const Renaming& renamed) {
   if (renamed.empty()) return;
   impl_->renameSlots(renamed, {});
-  for (Piece& p : impl_->pieces)
-    if (const auto it = renamed.find(p.surface); it != renamed.end()) p.surface = it->second;
+  for (Piece& p : impl_->pieces) {
+    const auto it =
+        std::lower_bound(renamed.begin(), renamed.end(), p.surface,
+                         [](const auto& entry, SurfaceId id) { return entry.first < id; });
+    if (it != renamed.end() && it->first == p.surface) p.surface = it->second;
+  }
 }
 
 int ReceiverMesh::vertexCount() const {

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "penumbra/dm/discontinuity_surface.h"
@@ -87,8 +88,9 @@ class ReceiverMesh {
                           double snapTolerance = 0, UpdateStats* stats = nullptr);
   // Renames the surfaces named on the edges (ids not in `renamed` stay): for an update whose
   // segments kept their geometry and order but not their surfaces' positions in the frame's list.
-  // Geometry and face indices are unchanged.
-  void renumberSurfaces(const std::map<SurfaceId, SurfaceId>& renamed);
+  // Geometry and face indices are unchanged. `renamed`: (old id, new id), sorted by the old.
+  using Renaming = std::vector<std::pair<SurfaceId, SurfaceId>>;
+  void renumberSurfaces(const Renaming& renamed);
 
   int vertexCount() const;
   int edgeCount() const;
