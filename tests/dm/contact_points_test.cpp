@@ -105,15 +105,25 @@ double errorAgainst(const Rgb& got, const Rgb& raw, double exitance) {
          scale;
 }
 
+// A scene's engine built at frame 0, with the reference at that pose.
+struct BuiltScene {
+  explicit BuiltScene(const std::string& path)
+      : scene(loadScene(path)), live(scene, 0), reference(live.posed(), &live.grid()) {
+    engine.build(live);
+  }
+  Scene scene;
+  DynamicScene live;
+  DiscontinuityMeshEngine engine;
+  ExactReference reference;
+};
+
 class ContactPoints : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ContactPoints, AreFiniteAndExactBesideThem) {
-  const Scene scene = loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/" + GetParam());
-  DynamicScene live(scene, 0);
-  const PosedScene& posed = live.posed();
-  DiscontinuityMeshEngine engine;
-  engine.build(live);
-  const ExactReference reference(posed, &live.grid());
+  const BuiltScene built(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/" + GetParam());
+  const PosedScene& posed = built.live.posed();
+  const DiscontinuityMeshEngine& engine = built.engine;
+  const ExactReference& reference = built.reference;
   const double size = posed.extent.diagonalLength();
   const double onPlane = 1e-9 * size, step = 1e-5 * size;
 
@@ -196,13 +206,11 @@ INSTANTIATE_TEST_SUITE_P(
 // answered 28% too bright (the stick left out), before a witness's segment had to cross no
 // quadric at all.
 TEST(ContactCorners, AreExactAtEveryDistanceAndDirectionAroundThem) {
-  const Scene scene =
-      loadScene(std::string(PENUMBRA_SOURCE_DIR) + "/tests/dm/data/desk-lamp-under-a-box.json");
-  DynamicScene live(scene, 0);
-  const PosedScene& posed = live.posed();
-  DiscontinuityMeshEngine engine;
-  engine.build(live);
-  const ExactReference reference(posed, &live.grid());
+  const BuiltScene built(std::string(PENUMBRA_SOURCE_DIR) +
+                         "/tests/dm/data/desk-lamp-under-a-box.json");
+  const PosedScene& posed = built.live.posed();
+  const DiscontinuityMeshEngine& engine = built.engine;
+  const ExactReference& reference = built.reference;
   const double size = posed.extent.diagonalLength();
   int probed = 0, differ = 0;
   std::string first;

@@ -79,6 +79,23 @@ TEST(EeeSide, ExactSignAgreesWithTheRoundedValueWhereThatIsCertain) {
   EXPECT_LT(positive, compared - 100);
 }
 
+// The sign changes of the exact side sign along a to b, sampled at 1,024 steps (from step
+// `first`); nothing where it is undefined or zero at a sample.
+std::optional<int> sampledSignChanges(const ThreeSkewEdges& s, const Vec3& a, const Vec3& b,
+                                      int first) {
+  constexpr int kSteps = 1024;
+  int changes = 0;
+  std::optional<int> previous;
+  for (int i = first; i <= kSteps; ++i) {
+    const auto sign =
+        exactEeeSideSign(s.surface, s.scene, s.adjacency, a + (b - a) * (double(i) / kSteps));
+    if (!sign || *sign == 0) return std::nullopt;
+    if (previous && *previous != *sign) ++changes;
+    previous = sign;
+  }
+  return changes;
+}
+
 // eeeQuadricCrossings against the exact side sign sampled densely along the segment (sign changes
 // counted over 1,024 steps): random segments of the floor, where the quadric's conic is a
 // hyperbola, so that a segment may cross it twice with equal sides at its ends.
@@ -90,19 +107,9 @@ TEST(EeeQuadricCrossings, CountsTheSignChangesAlongTheSegment) {
   std::array<int, 3> byCount{};
   for (int k = 0; k < 300; ++k) {
     const Vec3 a{u(rng), u(rng), 0}, b{u(rng), u(rng), 0};
-    int changes = 0;
-    std::optional<int> previous;
-    bool defined = true;
-    constexpr int kSteps = 1024;
-    for (int i = 0; i <= kSteps && defined; ++i) {
-      const auto sign =
-          exactEeeSideSign(s.surface, s.scene, s.adjacency, a + (b - a) * (double(i) / kSteps));
-      if (!sign || *sign == 0) defined = false;
-      if (!defined) break;
-      if (previous && *previous != *sign) ++changes;
-      previous = sign;
-    }
-    if (!defined) continue;
+    const std::optional<int> sampled = sampledSignChanges(s, a, b, 0);
+    if (!sampled) continue;
+    const int changes = *sampled;
     const std::optional<int> counted = eeeQuadricCrossings(s.surface, s.scene, s.adjacency, a, b);
     if (!counted) {
       ++uncertain;
@@ -132,19 +139,9 @@ TEST(EeeQuadricCrossings, LeaveOutTheCrossingAtAStartOnTheQuadric) {
   for (int d = 0; d < 64; ++d) {
     const double angle = d * std::numbers::pi / 32 + 0.05;
     const Vec3 b = on + Vec3{std::cos(angle), std::sin(angle), 0} * 3;
-    int changes = 0;
-    std::optional<int> previous;
-    bool defined = true;
-    constexpr int kSteps = 1024;
-    for (int i = 1; i <= kSteps && defined; ++i) {
-      const auto sign =
-          exactEeeSideSign(s.surface, s.scene, s.adjacency, on + (b - on) * (double(i) / kSteps));
-      if (!sign || *sign == 0) defined = false;
-      if (!defined) break;
-      if (previous && *previous != *sign) ++changes;
-      previous = sign;
-    }
-    if (!defined) continue;
+    const std::optional<int> sampled = sampledSignChanges(s, on, b, 1);
+    if (!sampled) continue;
+    const int changes = *sampled;
     const std::optional<int> counted = eeeQuadricCrossings(s.surface, s.scene, s.adjacency, on, b);
     if (!counted) continue;
     EXPECT_EQ(*counted, changes) << "towards " << angle;
