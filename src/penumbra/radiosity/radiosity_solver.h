@@ -21,8 +21,8 @@
 #include "penumbra/radiosity/cluster.h"
 #include "penumbra/radiosity/element.h"
 #include "penumbra/radiosity/link.h"
-#include "penumbra/spatial/shaft.h"
 #include "penumbra/scene/posed_scene.h"
+#include "penumbra/spatial/shaft.h"
 
 namespace penumbra {
 
@@ -194,7 +194,10 @@ class RadiositySolver {
   // bright element sources by their exact point form factor and visibility, the rest by `rays`
   // cosine-distributed rays from the point (deterministic for a seed). Nothing is interpolated,
   // so a point under a desk gets what it sees, not the mean of a leaf reaching out into the
-  // light. Nothing when the point lies on no polygon facing `normal`, or without a final gather.
+  // light. With RadiosityOptions::exactDirect, a ray that meets a leaf closer than the leaf's size
+  // takes what the point it met reflects, not the leaf's mean (reflectedAlong: the exact direct
+  // light there and a path on through the gap). Nothing when the point lies on no polygon facing
+  // `normal`, or without a final gather.
   std::optional<Rgb> gatheredIndirect(const Vec3& point, const Vec3& normal, int rays,
                                       std::uint64_t seed) const;
   // Direct and indirect irradiance and radiosity interpolated from the leaf's vertices, or
@@ -298,6 +301,12 @@ class RadiositySolver {
   void finalGather();
   // The points where the final gather evaluates a leaf (see final_gather.cpp).
   static std::array<Vec3, 16> gatherPoints(const Element& leaf);
+  // Is a ray's hit at `distance` from its origin closer than the size of the leaf it met?
+  bool isNearHit(int leaf, double distance) const;
+  // The light reflected at `point` (on `polygon`, in `leaf`) met by a ray that close: the exact
+  // direct irradiance there and one ray further (final_gather.cpp).
+  Rgb reflectedAlong(int leaf, const Vec3& point, PolygonId polygon, SplitMix& rng,
+                     int depth) const;
   void splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell, const Vec3& x,
                       double remainder, const std::vector<int>& rayElements,
                       const std::vector<int>& exactSources, int rays, SplitMix& rng,
