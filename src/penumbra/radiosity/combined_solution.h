@@ -6,14 +6,16 @@
 // irradiance from that mesh (RadiosityOptions::exactDirect), so the light the surfaces reflect
 // starts from the exact first bounce. At a point: E = E_direct(DM, exact at the point) +
 // E_indirect(the radiosity solution gathered at the point: RadiositySolver::gatheredIndirect,
-// exact form factors and visibility to the wholly visible sources, rays for the rest), so
-// nothing is interpolated and no light leaks under furniture from a leaf reaching into the
-// light. Both engines share one live scene.
+// exact form factors and visibility to the wholly visible sources, rays for the rest; a ray that
+// meets a leaf closer than the leaf's size takes what the point it met reflects, its exact direct
+// light and a path on), so nothing is interpolated and no light leaks under furniture or through
+// a gap from a leaf reaching into the light. Both engines share one live scene.
 //
-// Measured on the Cornell box against the independent path tracer (bench/radiosity_error_curve
-// --combined, 149 points): median 0.83%, p95 7.5% at 1e-3 with 1,024 rays per point (radiosity
-// alone: 3.7% and 23%); what is left is the rays' noise where little of the hemisphere is lit
-// (the dark room in front of the box's opening).
+// Measured against the independent path tracer (bench/radiosity_error_curve --combined, 1e-3,
+// 1,024 rays per point; docs/radiosity.md): median 0.77%, p95 7.3% in the Cornell box (radiosity
+// alone: 3.7% and 23%), 1.09% and 2.5% in the chair room, 1.28% and 5.8% in the furnished room;
+// what is left is the rays' noise where little of the hemisphere is lit (the dark room in front
+// of the Cornell box's opening) and indirect light about 1% low in the rooms.
 
 #include <optional>
 
