@@ -1353,9 +1353,9 @@ std::vector<int> DiscontinuityMeshEngine::facesBySides(const ReceiverData& data,
     // an event ends near p (a polyline's end at a contact, where an occluder's edge meets the
     // receiver and every quadric through that edge passes), the segment can cross the event and
     // come back across the quadric's zero set beyond the event's end, into a face whose labels
-    // are not p's (desk-475's last pose: 17 edge midpoints 28% off). Past p's rounding, the
-    // segment crosses none of the quadrics. (A crossing within p's rounding is p's side, which
-    // the test above compared exactly.)
+    // are not p's (desk-475's last pose: 33 edge midpoints, with its triangulated copy, 28% off).
+    // Past p's rounding, the segment crosses none of the quadrics. (A crossing within p's rounding
+    // is p's side, which the test above compared exactly.)
     for (const EeeSurface* s : near)
       if (eeeQuadricCrossings(*s, *posed_, *adjacency_, p, w) != 0) return false;
     for (size_t k = 0; k < near.size(); ++k)

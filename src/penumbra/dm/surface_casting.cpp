@@ -87,31 +87,39 @@ std::vector<ConvexCut> intersectWithConvex(const Polygon3& p, const Polygon3& co
 
 namespace {
 
-// Each piece's plane, and how far from it a polygon's bounds must lie to be certainly on one side
-// of the exact plane through the piece's corners (a triangle: planar exactly), where
-// intersectWithConvex, whose signs are exact, finds no cut. Skipping those polygons before it
-// saves its exact signs and allocations for most candidates (casting was 14% of desk-475's full
-// build). 1e-9 of the scene is far beyond the double plane's rounding (1e-16 of the coordinates).
-struct PiecePlanes {
+// A fan's pieces with their planes. A polygon whose bounds lie farther than `margin` from a
+// piece's plane is certainly on one side of the exact plane through the piece's corners (a
+// triangle: planar exactly), where intersectWithConvex, whose signs are exact, finds no cut:
+// skipping it saves those signs and allocations for most candidates (casting was 14% of
+// desk-475's full build). 1e-9 of the scene is far beyond the double plane's rounding (1e-16 of
+// the coordinates).
+struct FanPieces {
+  std::vector<Polygon3> pieces;
   std::vector<Plane> planes;
   double margin = 0;
-  PiecePlanes(const std::vector<Polygon3>& pieces, const UniformGrid& grid)
-      : margin(1e-9 * grid.bounds().diagonalLength()) {
+  FanPieces(const CriticalFan& fan, const UniformGrid& grid)
+      : pieces(boundedFan(fan, grid.bounds())), margin(1e-9 * grid.bounds().diagonalLength()) {
     for (const Polygon3& piece : pieces) {
       const Vec3 n = normalize(newellNormal(piece));
       planes.push_back({n, dot(n, piece[0])});
     }
   }
-  bool mayCut(size_t piece, const Box3& bounds) const {
-    const auto [low, high] = signedDistanceRange(planes[piece], bounds);
-    return low <= margin && high >= -margin;
+  // Appends the polygon's cuts with the pieces, in piece order.
+  void appendCuts(const WorldPolygon& polygon, std::vector<SurfaceIntersection>& out) const {
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      const auto [low, high] = signedDistanceRange(planes[k], polygon.bounds);
+      if (low > margin || high < -margin) continue;
+      for (const ConvexCut& cut : intersectWithConvex(polygon.vertices, pieces[k]))
+        out.push_back({polygon.id, cut.p0, cut.p1, cut.boundaryAt0, cut.boundaryAt1});
+    }
   }
 };
 
 }  // namespace
 
 void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid) {
-  const std::vector<Polygon3> pieces = boundedFan(surface.fan, grid.bounds());
+  const FanPieces fan(surface.fan, grid);
+  const std::vector<Polygon3>& pieces = fan.pieces;
   surface.cells.clear();
   surface.intersections.clear();
   std::vector<PolygonId> candidates;
@@ -126,15 +134,8 @@ void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const U
   surface.cells.erase(std::unique(surface.cells.begin(), surface.cells.end()), surface.cells.end());
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-  const PiecePlanes planes(pieces, grid);
-  for (PolygonId id : candidates) {
-    if (id == surface.light) continue;
-    for (size_t k = 0; k < pieces.size(); ++k) {
-      if (!planes.mayCut(k, scene.polygons[id].bounds)) continue;
-      for (const ConvexCut& cut : intersectWithConvex(scene.polygons[id].vertices, pieces[k]))
-        surface.intersections.push_back({id, cut.p0, cut.p1, cut.boundaryAt0, cut.boundaryAt1});
-    }
-  }
+  for (PolygonId id : candidates)
+    if (id != surface.light) fan.appendCuts(scene.polygons[id], surface.intersections);
 }
 
 void recastMoved(DiscontinuitySurface& surface, const PosedScene& scene, const UniformGrid& grid,
@@ -149,14 +150,8 @@ void recastMoved(DiscontinuitySurface& surface, const PosedScene& scene, const U
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   std::vector<SurfaceIntersection> cuts;
   if (!candidates.empty()) {
-    const std::vector<Polygon3> pieces = boundedFan(surface.fan, grid.bounds());
-    const PiecePlanes planes(pieces, grid);
-    for (PolygonId id : candidates)
-      for (size_t k = 0; k < pieces.size(); ++k) {
-        if (!planes.mayCut(k, scene.polygons[id].bounds)) continue;
-        for (const ConvexCut& cut : intersectWithConvex(scene.polygons[id].vertices, pieces[k]))
-          cuts.push_back({id, cut.p0, cut.p1, cut.boundaryAt0, cut.boundaryAt1});
-      }
+    const FanPieces fan(surface.fan, grid);
+    for (PolygonId id : candidates) fan.appendCuts(scene.polygons[id], cuts);
   }
   // The kept cuts and the new ones, each in polygon order (a polygon's cuts stay together, in
   // the order castSurface makes them).

@@ -295,7 +295,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
   constexpr double kSeam = 10;
   const int rays = std::max(0, rayCount);
   std::vector<int> met;
-  std::vector<std::pair<size_t, LeafGather::NearHit>> nearAt;  // by position in met
+  const size_t nearBefore = gather.near.size();
   if (rays > 0 && remainder > kNoRays) {
     // side² strata, the rays beyond them unstratified: strata left empty would leave a range
     // of directions out of every point's estimate (32 rays in 6 x 6 strata skewed every
@@ -356,23 +356,17 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         // the few that escape sideways the whole remainder, +54% indirect light there).
         const int h = leafAt(hit->polygon, hit->point);
         if (h >= 0 && isExact(h)) continue;
-        met.push_back(h);
-        if (gather.keepNearHits && h >= 0 && isNearHit(h, hit->t))
-          nearAt.push_back({met.size() - 1, {h, hit->point, hit->polygon, 0}});
+        // A ray met near counts here like the others, and sends through gather.near.
+        const bool near = gather.keepNearHits && h >= 0 && isNearHit(h, hit->t);
+        if (near) gather.near.push_back({h, hit->point, hit->polygon, 0});
+        met.push_back(near ? -1 : h);
       }
   }
   if (!met.empty()) {
     const double weight = remainder / double(met.size());
-    size_t next = 0;
-    for (size_t k = 0; k < met.size(); ++k) {
-      if (next < nearAt.size() && nearAt[next].first == k) {
-        LeafGather::NearHit near = nearAt[next++].second;
-        near.weight = weight;
-        gather.near.push_back(near);
-        continue;
-      }
-      if (met[k] >= 0) entries.push_back({met[k], weight});
-    }
+    for (int h : met)
+      if (h >= 0) entries.push_back({h, weight});
+    for (size_t k = nearBefore; k < gather.near.size(); ++k) gather.near[k].weight = weight;
     return;
   }
   std::vector<double> formFactors(rayElements.size());
