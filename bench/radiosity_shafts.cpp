@@ -7,7 +7,7 @@
 //   worker      managed, the shaft work on the worker thread after each update (the update's
 //               time then includes any wait for the last one's work);
 //   lean        worker, keeping only the empty lists beyond the update that used them
-//               (ShaftManagement::keepCount 0).
+//               (ShaftManagement::keepCount 0, keepMoversParents false).
 // After every move each solver draws a frame (its leaf mesh, while the worker works) and the
 // solutions are compared bit for bit with the `all` one (shafts change cost, never results). The
 // moves: the scene's keyframes forward and back, then a random walk (a smooth one: each moving
@@ -149,6 +149,7 @@ int main(int argc, char** argv) {
   policies.push_back(policies[3]);
   policies[4].name = "lean";
   policies[4].options.management.keepCount = 0;
+  policies[4].options.management.keepMoversParents = false;
   std::printf(
       "%s (%d polygons), tolerance %g, one thread per solver; %d keyframe walks, %d moves\n",
       path.c_str(), scene.polygonCount(), tolerance, repeat, moves);

@@ -56,6 +56,7 @@ TEST(GalerkinShafts, EveryPolicyGivesTheSameSolutionBitForBit) {
   policies[1].management.workerThread = false;
   policies[2].management.prediction = false;
   policies[3].management.keepCount = 0;  // only the empty lists outlive their update
+  policies[3].management.keepMoversParents = false;
   std::vector<std::unique_ptr<GalerkinRadiosity>> solvers;
   for (const GalerkinOptions& o : policies) {
     solvers.push_back(std::make_unique<GalerkinRadiosity>(o));
@@ -121,12 +122,19 @@ TEST(GalerkinShafts, CollectionReleasesTheListsNoUpdateUsed) {
     const long long afterMove = solver.stats().shafts;
     EXPECT_GT(afterMove, 100);
     if (collect) {
-      // Beyond their update only the lists of at most keepCount candidates are kept.
+      // Beyond their update only the lists of at most keepCount candidates are kept, and those
+      // the moved chair's own pairs were made from.
       EXPECT_GT(solver.lastUpdate().shaftsCollected, 0);
+      long long moversParents = 0;
       for (const GalerkinRadiosity::GLink& link : solver.links())
         if (link.candidates && link.state != GalerkinRadiosity::GLink::kSelf) {
-          EXPECT_LE(link.candidates->size(), options.management.keepCount);
+          if (link.candidates->size() > options.management.keepCount) {
+            EXPECT_TRUE(link.feedsMovedEnd);
+            EXPECT_EQ(link.state, GalerkinRadiosity::GLink::kPassive);
+          }
+          moversParents += link.feedsMovedEnd;
         }
+      EXPECT_GT(moversParents, 0);
     } else {
       EXPECT_EQ(solver.lastUpdate().shaftsCollected, 0);
     }

@@ -57,4 +57,24 @@ struct GalerkinRadiosity::Move {
   }
 };
 
+// A link as the solve carries it, and the solve's sums between solves (galerkin_solve.cpp).
+struct GalerkinRadiosity::SolveState {
+  struct Link {
+    NodeRef receiver, source;
+    std::array<double, 9> k;
+    Vec3 direction;
+    int pair = 0;
+  };
+  bool valid = false;
+  std::vector<Link> links;      // the active links as last carried, in no particular order
+  std::vector<int> slotOfPair;  // per pair: its place in `links`, or -1
+  // Per element and per cluster: what each source's links last carried (reflected radiosity,
+  // B − M; a cluster's lobes), and the sums of K x sent they made at their receivers.
+  std::vector<LinearRgb> sent, gathered;
+  std::vector<AxisLobes> clusterSent, clusterGathered;
+  // The emission the direct sums were made with: if it changed, they are made again.
+  std::vector<Rgb> emission;
+  std::vector<AxisLobes> clusterEmitted;
+};
+
 }  // namespace penumbra

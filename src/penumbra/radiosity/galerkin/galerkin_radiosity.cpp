@@ -49,6 +49,7 @@ void GalerkinRadiosity::clear() {
   linkCount_ = 0;
   droppedPairs_ = 0;
   stats_ = {};
+  invalidateSolveState();
 }
 
 void GalerkinRadiosity::takeScene(const DynamicScene& scene) {

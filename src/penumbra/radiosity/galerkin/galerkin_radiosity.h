@@ -87,6 +87,10 @@ struct ShaftManagement {
   // are, which the pair keeps, and the move's own polygons, which are few); it is made again
   // only for a pair whose ends changed, which a move makes from the parent's list anyway.
   std::size_t keepCount = 16;
+  // Whether a list a moved object's own pairs were made from (its parent pairs': no end of theirs
+  // moved) outlives the update whatever its length, while the object goes on moving (it is
+  // released once an update leaves it unused, by minAge): each move of the object needs it again.
+  bool keepMoversParents = true;
   // Prediction and collection on a second thread after each update, while the caller draws or
   // waits for input; the next call that reads or changes the pairs waits for it first.
   bool workerThread = true;
@@ -319,8 +323,11 @@ class GalerkinRadiosity {
     bool everyRay = false;
     State state = kActive;
     bool splitReceiver = false;  // kPassive: the end split was the receiver
-    int parent = -1;             // the pair it came from (-1: the root's pair with itself)
-    int firstChild = -1;         // kPassive, kSelf: its children, contiguous
+    // kPassive: a child with a moved end made its list from this one's in an update (so the
+    // next move of that object needs it again, however long it is).
+    bool feedsMovedEnd = false;
+    int parent = -1;      // the pair it came from (-1: the root's pair with itself)
+    int firstChild = -1;  // kPassive, kSelf: its children, contiguous
     int childCount = 0;
     // The occluder candidates its estimate used (kSelf: its parent's), which its children's
     // are filtered from; a move edits them (Drettakis & Sillion's shafts, here as their
@@ -504,8 +511,18 @@ class GalerkinRadiosity {
   void addLobes(AxisLobes& lobes, NodeRef child, bool emitted) const;
   // Jacobi iterations until the largest change of B < convergence x the largest reflected B;
   // `fromPrevious`: starting from a solution near this one (an update), carrying only what
-  // changed after the first iteration.
+  // changed: the links changed since the last solve, then the sources that changed.
   void solve(double convergence, bool fromPrevious = false);
+  // What a solve leaves for the next (galerkin_solve.cpp): the links that carried light and
+  // the sums they made. Valid from a solve until a compaction renumbers pairs or elements.
+  struct SolveState;
+  std::unique_ptr<SolveState> solveState_;
+  // The pairs whose state or coefficients changed since the last solve (while its state is
+  // valid), each once: what the next solve carries anew.
+  std::vector<int> changedPairs_;
+  std::vector<char> pairChanged_;
+  void noteChanged(int pair);
+  void invalidateSolveState();
   // Pushes what `n` gathered (plus `direct`, `indirect` from element ancestors, in n's basis,
   // and the lobes of cluster ancestors) down to the leaves, sets B there and pulls it back up;
   // returns the largest change of a leaf's B.

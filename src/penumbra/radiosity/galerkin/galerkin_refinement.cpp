@@ -123,6 +123,7 @@ int GalerkinRadiosity::appendPair(const RefineTask& task, GLink::State state,
     ++parent.childCount;
   }
   links_.push_back(std::move(link));
+  noteChanged(index);
   return index;
 }
 
@@ -138,6 +139,7 @@ long long GalerkinRadiosity::dropChildren(int pair) {
     if (child.state == GLink::kActive || child.state == GLink::kPassive) --linkCount_;
     child.state = GLink::kDropped;
     child.candidates.reset();
+    noteChanged(c);
     ++droppedPairs_;
   }
   return dropped;
@@ -190,6 +192,7 @@ void GalerkinRadiosity::shapeChild(const GElement& parent, const std::array<Vec3
 }
 
 void GalerkinRadiosity::compactPairs() {
+  invalidateSolveState();  // it names pairs by their places
   // Breadth first from the root pair, each pair's children placed together: the order keeps
   // children contiguous and parents before their children, as refinement makes them.
   std::vector<int> order{0}, newIndex(links_.size(), -1);
@@ -214,6 +217,7 @@ void GalerkinRadiosity::compactPairs() {
 }
 
 long long GalerkinRadiosity::compactElements() {
+  invalidateSolveState();  // it names elements by their places
   // Which elements a pair names; an element's split is kept while its subtree holds one.
   std::vector<char> needed(elements_.size(), 0);
   for (const GLink& link : links_) {
@@ -391,6 +395,7 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
     GLink& split = links_[i];
     split.state = GLink::kPassive;
     split.splitReceiver = *end == r;
+    noteChanged(i);
     queueChildren(r, s, *end, own, i, wave);
   }
   if (wave.empty()) return outcome;

@@ -28,9 +28,9 @@
 
 #include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
-#include "penumbra/spatial/shaft.h"
 #include "penumbra/scene/scene_change.h"
 #include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/shaft.h"
 
 namespace penumbra {
 
@@ -159,6 +159,7 @@ void GalerkinRadiosity::manageShafts(std::vector<Box3> predicted) {
       if (link.candidates && link.state != GLink::kSelf &&
           (serial_ - link.shaftUsed >= std::uint32_t(m.minAge) || !worthKeeping(link))) {
         link.candidates.reset();
+        link.feedsMovedEnd = false;
         ++lastUpdate_.shaftsCollected;
       }
     }
@@ -168,7 +169,13 @@ void GalerkinRadiosity::manageShafts(std::vector<Box3> predicted) {
 
 bool GalerkinRadiosity::worthKeeping(const GLink& link) const {
   // A cluster's pair with itself holds its parent's list, which is the root's: nothing.
-  return link.state == GLink::kSelf || link.candidateCount <= options_.management.keepCount;
+  // A list a moved object's own pairs are made from is kept while that object goes on moving:
+  // else each of its moves makes it again, from the nearest ancestor that kept one. Measured on
+  // the furnished room's keyframe steps (bench/radiosity_update): the walk 8.4 -> 7.0 ms and the
+  // update 44.4 -> 41.5 ms; on its smooth walk (bench/radiosity_shafts) the lists held go from
+  // 0.27 % to 1.14 % of every pair's (0.05 -> 0.18 MiB of 33 MiB).
+  return link.state == GLink::kSelf || link.candidateCount <= options_.management.keepCount ||
+         (link.feedsMovedEnd && options_.management.keepMoversParents);
 }
 
 void GalerkinRadiosity::countShafts() const {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "penumbra/radiosity/galerkin/axis_lobes.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
@@ -64,35 +65,47 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
   for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * shares[f]);
 }
 
+void GalerkinRadiosity::noteChanged(int pair) {
+  // Only a valid state carries changes: else the next solve gathers everything anyway.
+  if (!solveState_ || !solveState_->valid) return;
+  if (pairChanged_.size() <= size_t(pair)) pairChanged_.resize(links_.size(), 0);
+  if (pairChanged_[pair]) return;
+  pairChanged_[pair] = 1;
+  changedPairs_.push_back(pair);
+}
+
+void GalerkinRadiosity::invalidateSolveState() {
+  if (solveState_) solveState_->valid = false;
+  changedPairs_.clear();
+  pairChanged_.clear();
+}
+
 void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
-  // The links that carry light, copied together once (the pairs also hold the refinement's
+  // The links that carry light sit together in the state (the pairs also hold the refinement's
   // history), and what they read and write each iteration in dense arrays beside them: the
   // elements and clusters hold far more, and the iterations run through the links many times.
-  struct SolveLink {
-    NodeRef receiver, source;
-    std::array<double, 9> k;
-    Vec3 direction;
-  };
-  std::vector<SolveLink> active;
-  active.reserve(size_t(linkCount_));
-  for (const GLink& link : links_)
-    if (link.active()) active.push_back({link.receiver, link.source, link.k, link.direction});
+  if (!solveState_) solveState_ = std::make_unique<SolveState>();
+  SolveState& state = *solveState_;
+  using SolveLink = SolveState::Link;
   const size_t elementCount = elements_.size(), clusterCount = clusters_.size();
-  // What each source's links last carried (reflected radiosity: B − M), and the sums they made.
-  std::vector<LinearRgb> sent(elementCount), gathered(elementCount);
-  std::vector<AxisLobes> clusterSent(clusterCount), clusterGathered(clusterCount);
   const auto reflectedOf = [&](size_t e) {
     LinearRgb b = elements_[e].node.radiosity;
     b[0] = b[0] - elements_[e].node.emission;
     return b;
   };
-  // Adds what `from` (an element's linear function, or a cluster's lobes) sends over a link.
-  const auto carry = [&](const SolveLink& link, const LinearRgb& from, const AxisLobes& lobes) {
+  std::vector<LinearRgb>& sent = state.sent;
+  std::vector<LinearRgb>& gathered = state.gathered;
+  std::vector<AxisLobes>& clusterSent = state.clusterSent;
+  std::vector<AxisLobes>& clusterGathered = state.clusterGathered;
+  // Adds what `from` (an element's linear function, or a cluster's lobes) sends over a link,
+  // times `sign` (-1 takes back what it carried).
+  const auto carry = [&](const SolveLink& link, const LinearRgb& from, const AxisLobes& lobes,
+                         double sign) {
     LinearRgb source{};
     if (link.source.isCluster())
-      source[0] = exitanceToward(lobes, link.direction * -1.0);
+      source[0] = exitanceToward(lobes, link.direction * -1.0) * sign;
     else
-      source = from;
+      for (int alpha = 0; alpha < 3; ++alpha) source[alpha] = from[alpha] * sign;
     const int rows = link.receiver.isCluster() ? 1 : 3;
     const int columns = link.source.isCluster() ? 1 : 3;
     LinearRgb arriving{};
@@ -106,17 +119,14 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
     }
   };
-
-  // A full gather: the direct part (emission does not change between iterations) once, and the
-  // reflected part from every link.
-  for (GElement& e : elements_) e.node.gatheredDirect = {};
-  for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
-  for (const SolveLink& link : active) {
+  // The direct part (emission does not change between iterations), times `sign`.
+  const auto carryDirect = [&](const SolveLink& link, double sign) {
     LinearRgb direct{};
     const Rgb emitted =
-        link.source.isCluster()
-            ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
-            : elements_[link.source.index].node.emission;
+        (link.source.isCluster()
+             ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
+             : elements_[link.source.index].node.emission) *
+        sign;
     const int rows = link.receiver.isCluster() ? 1 : 3;
     for (int beta = 0; beta < rows; ++beta) direct[beta] = emitted * link.k[beta * 3];
     if (link.receiver.isCluster()) {
@@ -125,7 +135,83 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       Node& receiver = elements_[link.receiver.index].node;
       for (int beta = 0; beta < 3; ++beta) receiver.gatheredDirect[beta] += direct[beta];
     }
+  };
+  const auto carrySent = [&](const SolveLink& link, double sign) {
+    carry(link, link.source.isCluster() ? LinearRgb{} : sent[link.source.index],
+          link.source.isCluster() ? clusterSent[link.source.index] : AxisLobes{}, sign);
+  };
+  const auto solveLinkOf = [&](int pair) {
+    const GLink& link = links_[size_t(pair)];
+    return SolveLink{link.receiver, link.source, link.k, link.direction, pair};
+  };
+
+  // From a previous solve whose sums are still valid, and with the emission they were made
+  // with, only the links changed since are carried anew: what each carried is taken back and
+  // what it carries now added. Else every sum is made again.
+  bool incremental = fromPrevious && state.valid && state.clusterEmitted.size() == clusterCount &&
+                     state.emission.size() <= elementCount;
+  for (size_t e = 0; incremental && e < state.emission.size(); ++e)
+    incremental = state.emission[e] == elements_[e].node.emission;
+  for (size_t c = 0; incremental && c < clusterCount; ++c)
+    incremental = state.clusterEmitted[c] == clusters_[c].emittedLobes;
+  if (incremental) {
+    // Elements split since: nothing carried to or from them yet.
+    for (size_t e = sent.size(); e < elementCount; ++e) {
+      sent.push_back(reflectedOf(e));
+      gathered.push_back({});
+      state.emission.push_back(elements_[e].node.emission);
+      elements_[e].node.gatheredDirect = {};
+    }
+    state.slotOfPair.resize(links_.size(), -1);
+    for (int pair : changedPairs_) {
+      int& slot = state.slotOfPair[size_t(pair)];
+      if (slot >= 0) {
+        carryDirect(state.links[size_t(slot)], -1);
+        carrySent(state.links[size_t(slot)], -1);
+      }
+      if (links_[size_t(pair)].active()) {
+        if (slot < 0) {
+          slot = int(state.links.size());
+          state.links.emplace_back();
+        }
+        state.links[size_t(slot)] = solveLinkOf(pair);
+        carryDirect(state.links[size_t(slot)], 1);
+        carrySent(state.links[size_t(slot)], 1);
+      } else if (slot >= 0) {  // the last link fills its place
+        const int last = int(state.links.size()) - 1;
+        if (slot != last) {
+          state.links[size_t(slot)] = state.links[size_t(last)];
+          state.slotOfPair[size_t(state.links[size_t(slot)].pair)] = slot;
+        }
+        state.links.pop_back();
+        slot = -1;
+      }
+    }
+  } else {
+    state.links.clear();
+    state.slotOfPair.assign(links_.size(), -1);
+    for (size_t i = 0; i < links_.size(); ++i)
+      if (links_[i].active()) {
+        state.slotOfPair[i] = int(state.links.size());
+        state.links.push_back(solveLinkOf(int(i)));
+      }
+    for (GElement& e : elements_) e.node.gatheredDirect = {};
+    for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
+    for (const SolveLink& link : state.links) carryDirect(link, 1);
+    sent.resize(elementCount);
+    gathered.resize(elementCount);
+    clusterSent.resize(clusterCount);
+    clusterGathered.resize(clusterCount);
+    state.emission.resize(elementCount);
+    for (size_t e = 0; e < elementCount; ++e) state.emission[e] = elements_[e].node.emission;
+    state.clusterEmitted.resize(clusterCount);
+    for (size_t c = 0; c < clusterCount; ++c) state.clusterEmitted[c] = clusters_[c].emittedLobes;
+    state.valid = true;
   }
+  for (int pair : changedPairs_) pairChanged_[size_t(pair)] = 0;
+  changedPairs_.clear();
+  const std::vector<SolveLink>& active = state.links;
+
   const auto gatherAll = [&] {
     for (size_t e = 0; e < elementCount; ++e) {
       sent[e] = reflectedOf(e);
@@ -135,15 +221,13 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       clusterSent[c] = clusters_[c].reflectedLobes;
       clusterGathered[c] = {};
     }
-    for (const SolveLink& link : active)
-      carry(link, link.source.isCluster() ? LinearRgb{} : sent[link.source.index],
-            link.source.isCluster() ? clusterSent[link.source.index] : AxisLobes{});
+    for (const SolveLink& link : active) carrySent(link, 1);
   };
 
-  // From a previous solution most sources hardly change: after one full gather, each iteration
-  // carries only the changes of the sources that changed by more than a fraction of the
-  // convergence threshold (their links found through a by-source index), the rest kept in the
-  // sums; what is left behind is below the accuracy the solve stops at.
+  // From a previous solution most sources hardly change: each iteration carries only the
+  // changes of the sources that changed by more than a fraction of the convergence threshold
+  // (their links found through a by-source index), the rest kept in the sums; what is left
+  // behind is below the accuracy the solve stops at.
   std::vector<int> firstBySource, bySource;
   if (fromPrevious) {
     firstBySource.assign(elementCount + clusterCount + 1, 0);
@@ -154,9 +238,16 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
     std::vector<int> next(firstBySource.begin(), firstBySource.end() - 1);
     for (size_t l = 0; l < active.size(); ++l) bySource[next[slot(active[l].source)]++] = int(l);
   }
-  double largestReflected = 0;
+  const auto largestLeafReflected = [&] {
+    double largest = 0;
+    for (const GElement& e : elements_)
+      if (e.isLeaf())
+        largest = std::max(largest, (e.node.radiosity[0] - e.node.emission).maxComponent());
+    return largest;
+  };
+  double largestReflected = incremental ? largestLeafReflected() : 0;
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
-    if (iteration == 0 || !fromPrevious) {
+    if (!fromPrevious || (iteration == 0 && !incremental)) {
       gatherAll();
     } else {
       const double threshold = 0.5 * convergence * largestReflected;
@@ -172,7 +263,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
         if (largest <= threshold) continue;
         sent[e] = now;
         for (int l = firstBySource[e]; l < firstBySource[e + 1]; ++l)
-          carry(active[bySource[l]], delta, {});
+          carry(active[size_t(bySource[size_t(l)])], delta, {}, 1);
       }
       for (size_t c = 0; c < clusterCount; ++c) {
         AxisLobes delta;
@@ -187,7 +278,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
         clusterSent[c] = clusters_[c].reflectedLobes;
         const size_t at = elementCount + c;
         for (int l = firstBySource[at]; l < firstBySource[at + 1]; ++l)
-          carry(active[bySource[l]], {}, delta);
+          carry(active[size_t(bySource[size_t(l)])], {}, delta, 1);
       }
     }
     for (size_t e = 0; e < elementCount; ++e) elements_[e].node.gatheredIndirect = gathered[e];
@@ -197,11 +288,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
     ++stats_.iterations;
     // Against the largest reflected radiosity, not B: a lamp's emission can be a hundred times
     // what the walls reflect, and measured against it the indirect light stopped 1% short.
-    largestReflected = 0;
-    for (const GElement& e : elements_)
-      if (e.isLeaf())
-        largestReflected =
-            std::max(largestReflected, (e.node.radiosity[0] - e.node.emission).maxComponent());
+    largestReflected = largestLeafReflected();
     if (change <= convergence * std::max(largestReflected, 1e-300)) break;
     // Frame-rate control: the next update goes on from here (it solves from this solution).
     if (overBudget()) {

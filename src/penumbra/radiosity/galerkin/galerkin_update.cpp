@@ -27,10 +27,10 @@
 #include "penumbra/radiosity/face_contacts.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/hierarchy_building.h"
-#include "penumbra/spatial/shaft.h"
 #include "penumbra/scene/scene_change.h"
 #include "penumbra/spatial/dynamic_scene.h"
 #include "penumbra/spatial/ray_caster.h"
+#include "penumbra/spatial/shaft.h"
 
 namespace penumbra {
 
@@ -251,6 +251,7 @@ void GalerkinRadiosity::setState(GLink& link, GLink::State state) {
   };
   linkCount_ += counts(state) - counts(link.state);
   link.state = state;
+  noteChanged(int(&link - links_.data()));
 }
 
 void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
@@ -350,6 +351,8 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       if (filters || (outcomes[m].exchanges && !kept(m) && link.state == GLink::kPassive &&
                       !link.candidates && !met[m].inheritedBefore))
         candidatesFor(link.parent);
+      if (filters && (move.endChanged(link.receiver) || move.endChanged(link.source)))
+        links_[link.parent].feedsMovedEnd = true;
     }
     lastUpdate_.shaftsMade += listsMade_ - madeBefore;
     lastUpdate_.walkSeconds += walk.lap();
@@ -440,6 +443,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
         end = endToSplit(r, s);
       GLink& link = links_[i];
       storeEstimate(link, e);
+      noteChanged(i);
       if (out.own) {
         // The same list as before stays the same block: its children not met share it still.
         if (link.candidates && out.own != link.candidates && *out.own == *link.candidates)
