@@ -523,6 +523,10 @@ class GalerkinRadiosity {
   std::vector<char> pairChanged_;
   void noteChanged(int pair);
   void invalidateSolveState();
+  // Checks the state against the pairs (the links it holds are the active ones, as stored, but
+  // for the pairs noted as changed) and its sums against the sums made again from what it says
+  // each source sent (equal but for rounding): empty when all agree, else what differs.
+  std::string verifySolveState() const;
   // Pushes what `n` gathered (plus `direct`, `indirect` from element ancestors, in n's basis,
   // and the lobes of cluster ancestors) down to the leaves, sets B there and pulls it back up;
   // returns the largest change of a leaf's B.

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
+#include <string>
 
 #include "penumbra/radiosity/galerkin/axis_lobes.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
@@ -20,6 +22,34 @@ double upperBound(const LinearRgb& c, double reach) {
     return c[0].*k + reach * (std::abs(c[1].*k) + std::abs(c[2].*k));
   };
   return std::max({channel(&Rgb::r), channel(&Rgb::g), channel(&Rgb::b)});
+}
+
+// What a link delivers at its receiver (K x the source's function; a cluster end has one
+// coefficient: `source[0]` is a cluster source's exitance towards the receiver).
+template <class SolveLink>
+LinearRgb arrivingOver(const SolveLink& link, const LinearRgb& source) {
+  const int rows = link.receiver.isCluster() ? 1 : 3;
+  const int columns = link.source.isCluster() ? 1 : 3;
+  LinearRgb arriving{};
+  for (int beta = 0; beta < rows; ++beta)
+    for (int alpha = 0; alpha < columns; ++alpha)
+      arriving[beta] += source[alpha] * link.k[beta * 3 + alpha];
+  return arriving;
+}
+
+// The sizes of the terms arrivingOver adds up (what its rounding is measured against).
+template <class SolveLink>
+LinearRgb magnitudeOver(const SolveLink& link, const LinearRgb& source) {
+  const int rows = link.receiver.isCluster() ? 1 : 3;
+  const int columns = link.source.isCluster() ? 1 : 3;
+  LinearRgb magnitude{};
+  for (int beta = 0; beta < rows; ++beta)
+    for (int alpha = 0; alpha < columns; ++alpha) {
+      const Rgb& s = source[alpha];
+      magnitude[beta] +=
+          Rgb{std::abs(s.r), std::abs(s.g), std::abs(s.b)} * std::abs(link.k[beta * 3 + alpha]);
+    }
+  return magnitude;
 }
 
 }  // namespace
@@ -106,12 +136,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       source[0] = exitanceToward(lobes, link.direction * -1.0) * sign;
     else
       for (int alpha = 0; alpha < 3; ++alpha) source[alpha] = from[alpha] * sign;
-    const int rows = link.receiver.isCluster() ? 1 : 3;
-    const int columns = link.source.isCluster() ? 1 : 3;
-    LinearRgb arriving{};
-    for (int beta = 0; beta < rows; ++beta)
-      for (int alpha = 0; alpha < columns; ++alpha)
-        arriving[beta] += source[alpha] * link.k[beta * 3 + alpha];
+    const LinearRgb arriving = arrivingOver(link, source);
     if (link.receiver.isCluster()) {
       addArriving(clusterGathered[link.receiver.index], arriving[0], link.direction);
     } else {
@@ -119,16 +144,14 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
     }
   };
+  const auto emittedOver = [&](const SolveLink& link) {
+    return link.source.isCluster()
+               ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
+               : elements_[link.source.index].node.emission;
+  };
   // The direct part (emission does not change between iterations), times `sign`.
   const auto carryDirect = [&](const SolveLink& link, double sign) {
-    LinearRgb direct{};
-    const Rgb emitted =
-        (link.source.isCluster()
-             ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
-             : elements_[link.source.index].node.emission) *
-        sign;
-    const int rows = link.receiver.isCluster() ? 1 : 3;
-    for (int beta = 0; beta < rows; ++beta) direct[beta] = emitted * link.k[beta * 3];
+    const LinearRgb direct = arrivingOver(link, LinearRgb{emittedOver(link) * sign, {}, {}});
     if (link.receiver.isCluster()) {
       addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
     } else {
@@ -296,6 +319,86 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       break;
     }
   }
+}
+
+std::string GalerkinRadiosity::verifySolveState() const {
+  if (!solveState_ || !solveState_->valid) return {};
+  const SolveState& state = *solveState_;
+  const auto changed = [&](size_t pair) {
+    return pair < pairChanged_.size() && pairChanged_[pair] != 0;
+  };
+  const auto same = [](const SolveState::Link& a, const GLink& b) {
+    return a.receiver == b.receiver && a.source == b.source &&
+           std::memcmp(&a.k, &b.k, sizeof a.k) == 0 &&
+           std::memcmp(&a.direction, &b.direction, sizeof a.direction) == 0;
+  };
+  for (size_t i = 0; i < links_.size(); ++i) {
+    if (changed(i)) continue;
+    const int slot = i < state.slotOfPair.size() ? state.slotOfPair[i] : -1;
+    if (links_[i].active() != (slot >= 0))
+      return "pair " + std::to_string(i) +
+             (slot >= 0 ? ": carried by the solve, yet not a link"
+                        : ": a link the solve does not carry");
+    if (slot >= 0 &&
+        (state.links[size_t(slot)].pair != int(i) || !same(state.links[size_t(slot)], links_[i])))
+      return "pair " + std::to_string(i) + ": the solve carries it as it was before a change";
+  }
+  // The sums made again, in the order of the state's links, with the magnitudes they add up
+  // (what rounding is measured against).
+  const size_t elementCount = state.gathered.size(), clusterCount = state.clusterGathered.size();
+  std::vector<LinearRgb> gathered(elementCount), direct(elementCount), scale(elementCount);
+  std::vector<AxisLobes> clusterGathered(clusterCount), clusterDirect(clusterCount),
+      clusterScale(clusterCount);
+  for (const SolveState::Link& link : state.links) {
+    const Vec3 toward = link.direction * -1.0;
+    LinearRgb reflected{}, emitted{};
+    if (link.source.isCluster()) {
+      reflected[0] = exitanceToward(state.clusterSent[link.source.index], toward);
+      emitted[0] = exitanceToward(state.clusterEmitted[link.source.index], toward);
+    } else {
+      reflected = state.sent[link.source.index];
+      emitted[0] = state.emission[link.source.index];
+    }
+    const LinearRgb a = arrivingOver(link, reflected), d = arrivingOver(link, emitted);
+    const LinearRgb magnitude = magnitudeOver(link, reflected), m = magnitudeOver(link, emitted);
+    if (link.receiver.isCluster()) {
+      addArriving(clusterGathered[link.receiver.index], a[0], link.direction);
+      addArriving(clusterDirect[link.receiver.index], d[0], link.direction);
+      addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.direction);
+    } else {
+      for (int beta = 0; beta < 3; ++beta) {
+        gathered[link.receiver.index][beta] += a[beta];
+        direct[link.receiver.index][beta] += d[beta];
+        scale[link.receiver.index][beta] += magnitude[beta] + m[beta];
+      }
+    }
+  }
+  // Each add and take-back rounds by an ulp of the running sum, which may have held terms since
+  // taken back (a receiver that lost its links keeps a residue of what they carried): allowed
+  // 1e-9 of the terms it holds, and at least 1e-12 of the largest sum anywhere. A link carried
+  // wrongly or not at all is off by its whole term.
+  double largest = 0;
+  for (const LinearRgb& s : scale)
+    for (const Rgb& c : s) largest = std::max(largest, c.maxComponent());
+  for (const AxisLobes& s : clusterScale)
+    for (const Rgb& c : s) largest = std::max(largest, c.maxComponent());
+  const auto near = [&](const Rgb& a, const Rgb& b, const Rgb& s) {
+    const auto within = [&](double x, double y, double size) {
+      return std::abs(x - y) <= 1e-9 * size + 1e-12 * largest;
+    };
+    return within(a.r, b.r, s.r) && within(a.g, b.g, s.g) && within(a.b, b.b, s.b);
+  };
+  for (size_t e = 0; e < elementCount; ++e)
+    for (int beta = 0; beta < 3; ++beta)
+      if (!near(gathered[e][beta], state.gathered[e][beta], scale[e][beta]) ||
+          !near(direct[e][beta], elements_[e].node.gatheredDirect[beta], scale[e][beta]))
+        return "element " + std::to_string(e) + ": the solve's sums are not its links' sums";
+  for (size_t c = 0; c < clusterCount; ++c)
+    for (int f = 0; f < 6; ++f)
+      if (!near(clusterGathered[c][f], state.clusterGathered[c][f], clusterScale[c][f]) ||
+          !near(clusterDirect[c][f], clusters_[c].gatheredDirectLobes[f], clusterScale[c][f]))
+        return "cluster " + std::to_string(c) + ": the solve's sums are not its links' sums";
+  return {};
 }
 
 double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,

@@ -114,7 +114,7 @@ std::string GalerkinRadiosity::verifyLinks() const {
       stack.push_back(c);
     }
   }
-  return {};
+  return verifySolveState();
 }
 
 std::string GalerkinRadiosity::differenceFrom(const GalerkinRadiosity& other) const {
