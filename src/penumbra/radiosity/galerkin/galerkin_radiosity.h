@@ -259,8 +259,8 @@ class GalerkinRadiosity {
 
   // What the solver holds per element and per cluster (public for tests).
   struct Node {
-    Rgb emission;                                        // M (area mean for a cluster)
-    LinearRgb gatheredDirect{}, gatheredIndirect{};      // over the node's own links
+    Rgb emission;                // M (area mean for a cluster)
+    LinearRgb gatheredDirect{};  // over the node's own links (the indirect: in the solve's state)
     LinearRgb irradianceDirect{}, irradianceIndirect{};  // with what ancestors pushed down
     LinearRgb radiosity{};                               // B (a cluster: its area mean in [0])
     double maxRadiosity = 0;                             // a bound on B over the leaves below
@@ -295,7 +295,7 @@ class GalerkinRadiosity {
     // up), and what arrived over the cluster's own links and from the clusters above it, on the
     // six axis lobes (axis_lobes.h); the node's linear functions hold only area means.
     AxisLobes emittedLobes{}, reflectedLobes{};
-    AxisLobes gatheredDirectLobes{}, gatheredIndirectLobes{};
+    AxisLobes gatheredDirectLobes{};  // (the indirect: in the solve's state)
   };
   // The occluder candidates of a pair's shaft (shared: a split hands them to every child).
   using Candidates = std::shared_ptr<const std::vector<PolygonId>>;
@@ -527,11 +527,15 @@ class GalerkinRadiosity {
   // for the pairs noted as changed) and its sums against the sums made again from what it says
   // each source sent (equal but for rounding): empty when all agree, else what differs.
   std::string verifySolveState() const;
-  // Pushes what `n` gathered (plus `direct`, `indirect` from element ancestors, in n's basis,
-  // and the lobes of cluster ancestors) down to the leaves, sets B there and pulls it back up;
-  // returns the largest change of a leaf's B.
-  double pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,
-                  const AxisLobes& directLobes, const AxisLobes& indirectLobes);
+  // Pushes the irradiance `n` gathered, direct and indirect together (plus what element
+  // ancestors pushed, in n's basis, and the lobes of cluster ancestors), down to the leaves, sets
+  // B there and pulls it back up; returns the largest change of a leaf's B. The iterations need
+  // only the sum: the two parts are pushed once, after them (storeIrradiance).
+  double pushPull(NodeRef n, const LinearRgb& arrived, const AxisLobes& arrivedLobes);
+  // Pushes the direct and the indirect irradiance down apart and keeps them at every element
+  // (Node::irradianceDirect, irradianceIndirect), for the queries of the solution.
+  void storeIrradiance(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,
+                       const AxisLobes& directLobes, const AxisLobes& indirectLobes);
   std::optional<int> leafContaining(const Vec3& point, const Vec3& normal) const;
   // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it?
   bool isCovered(PolygonId polygon, const Vec3& x) const;

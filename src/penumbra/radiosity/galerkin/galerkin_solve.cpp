@@ -304,10 +304,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
           carry(active[size_t(bySource[size_t(l)])], {}, delta, 1);
       }
     }
-    for (size_t e = 0; e < elementCount; ++e) elements_[e].node.gatheredIndirect = gathered[e];
-    for (size_t c = 0; c < clusterCount; ++c)
-      clusters_[c].gatheredIndirectLobes = clusterGathered[c];
-    const double change = pushPull({NodeRef::kCluster, 0}, {}, {}, {}, {});
+    const double change = pushPull({NodeRef::kCluster, 0}, {}, {});
     ++stats_.iterations;
     // Against the largest reflected radiosity, not B: a lamp's emission can be a hundred times
     // what the walls reflect, and measured against it the indirect light stopped 1% short.
@@ -319,6 +316,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       break;
     }
   }
+  storeIrradiance({NodeRef::kCluster, 0}, {}, {}, {}, {});
 }
 
 std::string GalerkinRadiosity::verifySolveState() const {
@@ -401,26 +399,24 @@ std::string GalerkinRadiosity::verifySolveState() const {
   return {};
 }
 
-double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,
-                                   const AxisLobes& directLobes, const AxisLobes& indirectLobes) {
+double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
+                                   const AxisLobes& arrivedLobes) {
+  const SolveState& state = *solveState_;
   if (n.isCluster()) {
     GCluster& cluster = clusters_[n.index];
-    AxisLobes d = directLobes, i = indirectLobes;
-    for (int f = 0; f < 6; ++f) {
-      d[f] += cluster.gatheredDirectLobes[f];
-      i[f] += cluster.gatheredIndirectLobes[f];
-    }
+    AxisLobes a = arrivedLobes;
+    for (int f = 0; f < 6; ++f)
+      a[f] += cluster.gatheredDirectLobes[f] + state.clusterGathered[n.index][f];
     double change = 0, maxRadiosity = 0;
     Rgb radiosity;
     AxisLobes reflected{};
     for (NodeRef child : cluster.structure.children) {
       if (child.isCluster()) {
-        change = std::max(change, pushPull(child, {}, {}, d, i));
+        change = std::max(change, pushPull(child, {}, a));
       } else {
         // A root element takes what arrived on the lobes as it faces.
         const Vec3& normal = elements_[child.index].shape.normal;
-        change = std::max(change, pushPull(child, {irradianceOn(d, normal), Rgb{}, Rgb{}},
-                                           {irradianceOn(i, normal), Rgb{}, Rgb{}}, {}, {}));
+        change = std::max(change, pushPull(child, {irradianceOn(a, normal), Rgb{}, Rgb{}}, {}));
       }
       const Node& c = nodeOf(child);
       radiosity += c.radiosity[0] * area(child);
@@ -435,16 +431,12 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const Lin
     return change;
   }
   GElement& e = elements_[n.index];
-  LinearRgb d, i;
-  for (int k = 0; k < 3; ++k) {
-    d[k] = direct[k] + e.node.gatheredDirect[k];
-    i[k] = indirect[k] + e.node.gatheredIndirect[k];
-  }
-  e.node.irradianceDirect = d;
-  e.node.irradianceIndirect = i;
+  LinearRgb a;
+  for (int k = 0; k < 3; ++k)
+    a[k] = arrived[k] + (e.node.gatheredDirect[k] + state.gathered[n.index][k]);
   if (e.isLeaf()) {
     LinearRgb b;
-    for (int k = 0; k < 3; ++k) b[k] = e.reflectance * (d[k] + i[k]);
+    for (int k = 0; k < 3; ++k) b[k] = e.reflectance * a[k];
     b[0] += e.node.emission;
     double change = 0;
     for (int k = 0; k < 3; ++k)
@@ -461,8 +453,7 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const Lin
   LinearRgb pulled{};
   for (int c = first; c < first + 4; ++c) {
     const BasisTransfer& t = elements_[c].fromParent;
-    change = std::max(change, pushPull({NodeRef::kElement, c}, restrictedToChild(d, t),
-                                       restrictedToChild(i, t), {}, {}));
+    change = std::max(change, pushPull({NodeRef::kElement, c}, restrictedToChild(a, t), {}));
     const GElement& child = elements_[c];
     addProjectionToParent(pulled, child.node.radiosity, t, child.area / parentArea);
     maxRadiosity = std::max(maxRadiosity, child.node.maxRadiosity);
@@ -470,6 +461,42 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& direct, const Lin
   elements_[n.index].node.radiosity = pulled;
   elements_[n.index].node.maxRadiosity = maxRadiosity;
   return change;
+}
+
+void GalerkinRadiosity::storeIrradiance(NodeRef n, const LinearRgb& direct,
+                                        const LinearRgb& indirect, const AxisLobes& directLobes,
+                                        const AxisLobes& indirectLobes) {
+  const SolveState& state = *solveState_;
+  if (n.isCluster()) {
+    const GCluster& cluster = clusters_[n.index];
+    AxisLobes d = directLobes, i = indirectLobes;
+    for (int f = 0; f < 6; ++f) {
+      d[f] += cluster.gatheredDirectLobes[f];
+      i[f] += state.clusterGathered[n.index][f];
+    }
+    for (NodeRef child : cluster.structure.children) {
+      if (child.isCluster()) {
+        storeIrradiance(child, {}, {}, d, i);
+      } else {
+        const Vec3& normal = elements_[child.index].shape.normal;
+        storeIrradiance(child, {irradianceOn(d, normal), Rgb{}, Rgb{}},
+                        {irradianceOn(i, normal), Rgb{}, Rgb{}}, {}, {});
+      }
+    }
+    return;
+  }
+  GElement& e = elements_[n.index];
+  for (int k = 0; k < 3; ++k) {
+    e.node.irradianceDirect[k] = direct[k] + e.node.gatheredDirect[k];
+    e.node.irradianceIndirect[k] = indirect[k] + state.gathered[n.index][k];
+  }
+  if (e.isLeaf()) return;
+  const LinearRgb d = e.node.irradianceDirect, i = e.node.irradianceIndirect;
+  for (int c = e.firstChild; c < e.firstChild + 4; ++c) {
+    const BasisTransfer& t = elements_[c].fromParent;
+    storeIrradiance({NodeRef::kElement, c}, restrictedToChild(d, t), restrictedToChild(i, t), {},
+                    {});
+  }
 }
 
 }  // namespace penumbra
