@@ -74,6 +74,7 @@ nlohmann::json statsJson(const GalerkinStats& s) {
             {"elements", s.elementBytes},
             {"links", s.linkBytes},
             {"shafts", s.shaftBytes},
+            {"solve", s.solveBytes},
             {"total", s.totalBytes()}}}};
 }
 

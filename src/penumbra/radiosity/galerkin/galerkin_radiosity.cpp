@@ -139,6 +139,7 @@ void GalerkinRadiosity::countStats() const {
   for (const GCluster& c : clusters_)
     stats_.clusterBytes += c.structure.children.capacity() * sizeof(NodeRef);
   stats_.linkBytes = links_.capacity() * sizeof(GLink);
+  stats_.solveBytes = solveStateBytes();
   countShafts();
 }
 

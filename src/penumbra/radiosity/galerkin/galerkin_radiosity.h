@@ -153,7 +153,10 @@ struct GalerkinStats {
   long long shafts = 0;
   std::size_t shaftBytes = 0;
   std::size_t allShaftBytes = 0;
-  std::size_t totalBytes() const { return elementBytes + clusterBytes + linkBytes + shaftBytes; }
+  std::size_t solveBytes = 0;  // what a solve keeps for the next (its links' copy and sums)
+  std::size_t totalBytes() const {
+    return elementBytes + clusterBytes + linkBytes + shaftBytes + solveBytes;
+  }
   double refineSeconds = 0;
   double solveSeconds = 0;
   double totalSeconds = 0;
@@ -379,6 +382,9 @@ class GalerkinRadiosity {
   double oracleOf(const GLink& link) const {
     return oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer);
   }
+  // The oracle on an estimate as the pair will store it (its terms rounded to float), so that a
+  // pass over the stored pairs decides as the refinement that made them did.
+  double oracleOf(NodeRef r, NodeRef s, const Estimate& e) const;
   // Would a refinement pass split this link (its oracle past the threshold, an end splittable)?
   bool asksToSplit(const GLink& link) const {
     return link.active() && oracleOf(link) > threshold_ &&
@@ -523,6 +529,7 @@ class GalerkinRadiosity {
   std::vector<char> pairChanged_;
   void noteChanged(int pair);
   void invalidateSolveState();
+  std::size_t solveStateBytes() const;
   // Checks the state against the pairs (the links it holds are the active ones, as stored, but
   // for the pairs noted as changed) and its sums against the sums made again from what it says
   // each source sent (equal but for rounding): empty when all agree, else what differs.

@@ -41,6 +41,10 @@ double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, doub
   return area(r) * nodeOf(s).maxRadiosity * variation;
 }
 
+double GalerkinRadiosity::oracleOf(NodeRef r, NodeRef s, const Estimate& e) const {
+  return oracle(r, s, float(e.meanTransfer), float(e.spread), float(e.hiddenTransfer));
+}
+
 bool GalerkinRadiosity::canSplit(NodeRef n) const {
   return n.isCluster() || elements_[n.index].area > minArea_;
 }
@@ -320,7 +324,7 @@ void GalerkinRadiosity::refine(std::vector<RefineTask> wave, Counters& counters)
         continue;
       }
       const Estimate& e = out.estimate;
-      if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
+      if (oracleOf(r, s, e) > threshold_)
         if (const std::optional<NodeRef> end = endToSplit(r, s); end && !deferSplit()) {
           const int pair = appendPair(task, GLink::kPassive, &e);
           links_[pair].splitReceiver = *end == r;

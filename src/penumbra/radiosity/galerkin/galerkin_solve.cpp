@@ -104,6 +104,19 @@ void GalerkinRadiosity::noteChanged(int pair) {
   changedPairs_.push_back(pair);
 }
 
+std::size_t GalerkinRadiosity::solveStateBytes() const {
+  std::size_t bytes = changedPairs_.capacity() * sizeof(int) + pairChanged_.capacity();
+  if (!solveState_) return bytes;
+  const SolveState& state = *solveState_;
+  return bytes + sizeof(SolveState) + state.links.capacity() * sizeof(SolveState::Link) +
+         state.slotOfPair.capacity() * sizeof(int) +
+         (state.sent.capacity() + state.gathered.capacity()) * sizeof(LinearRgb) +
+         (state.clusterSent.capacity() + state.clusterGathered.capacity() +
+          state.clusterEmitted.capacity()) *
+             sizeof(AxisLobes) +
+         state.emission.capacity() * sizeof(Rgb);
+}
+
 void GalerkinRadiosity::invalidateSolveState() {
   if (solveState_) solveState_->valid = false;
   changedPairs_.clear();

@@ -439,7 +439,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       }
       const Estimate& e = out.estimate;
       std::optional<NodeRef> end;
-      if (oracle(r, s, e.meanTransfer, e.spread, e.hiddenTransfer) > threshold_)
+      if (oracleOf(r, s, e) > threshold_)
         end = endToSplit(r, s);
       GLink& link = links_[i];
       storeEstimate(link, e);
@@ -586,7 +586,14 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   if (!fresh.empty()) refine(std::move(fresh), counters);
   lastUpdate_.created = (long long)(links_.size() - before);
   const size_t count = links_.size();
-  if (options_.refinementPasses > 1 && !change.movesLight()) refineActiveLinks(counters);
+  // After an update that came to rest (its last pass split nothing on these radiosities), this
+  // pass finds nothing to split: a pair the walk did not meet has its ends, its estimate and its
+  // source's radiosity as that pass saw them, and the walk and refine() decided every pair they
+  // estimated by the same oracle on the same rounded terms (oracleOf) — unless the frame budget
+  // deferred a split. Then it is left out.
+  const bool restedBefore = stats_.settled && lastUpdate_.deferredSplits == 0;
+  if (options_.refinementPasses > 1 && !change.movesLight() && !restedBefore)
+    refineActiveLinks(counters);
   lastUpdate_.laterSplits = (long long)(links_.size() - count);
   lastUpdate_.refineSeconds = stage.lap();
   solve(options_.convergence, true);
