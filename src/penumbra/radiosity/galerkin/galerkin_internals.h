@@ -57,17 +57,20 @@ struct GalerkinRadiosity::Move {
   }
 };
 
-// A link as the solve carries it, and the solve's sums between solves (galerkin_solve.cpp).
+// The solve's sums between solves (galerkin_solve.cpp).
 struct GalerkinRadiosity::SolveState {
-  struct Link {
+  // A link whose light the sums hold, as it was when added (what taking it back subtracts).
+  struct Carried {
     NodeRef receiver, source;
     std::array<double, 9> k;
     Vec3 direction;
     int pair = 0;
   };
   bool valid = false;
-  std::vector<Link> links;      // the active links as last carried, in no particular order
-  std::vector<int> slotOfPair;  // per pair: its place in `links`, or -1
+  // The carried links by source element or cluster (together: the iterations carry a source's
+  // change over all its links at once), and a flag per pair.
+  std::vector<std::vector<Carried>> fromElement, fromCluster;
+  std::vector<char> carried;
   // Per element and per cluster: what each source's links last carried (reflected radiosity,
   // B − M; a cluster's lobes), and the sums of K x sent they made at their receivers.
   std::vector<LinearRgb> sent, gathered;
@@ -75,6 +78,9 @@ struct GalerkinRadiosity::SolveState {
   // The emission the direct sums were made with: if it changed, they are made again.
   std::vector<Rgb> emission;
   std::vector<AxisLobes> clusterEmitted;
+  std::vector<Carried>& fromSource(NodeRef s) {
+    return s.isCluster() ? fromCluster[s.index] : fromElement[s.index];
+  }
 };
 
 }  // namespace penumbra

@@ -519,15 +519,18 @@ class GalerkinRadiosity {
   // `fromPrevious`: starting from a solution near this one (an update), carrying only what
   // changed: the links changed since the last solve, then the sources that changed.
   void solve(double convergence, bool fromPrevious = false);
-  // What a solve leaves for the next (galerkin_solve.cpp): the links that carried light and
-  // the sums they made. Valid from a solve until a compaction renumbers pairs or elements.
+  // What a solve leaves for the next (galerkin_solve.cpp): which links carry light, by source,
+  // and the sums they made. Valid from a solve until a compaction renumbers pairs or elements.
   struct SolveState;
   std::unique_ptr<SolveState> solveState_;
   // The pairs whose state or coefficients changed since the last solve (while its state is
   // valid), each once: what the next solve carries anew.
   std::vector<int> changedPairs_;
   std::vector<char> pairChanged_;
-  void noteChanged(int pair);
+  // To be called when a pair's state or coefficients change (and once a pair is appended): what
+  // it carried is taken back from the sums, and the next solve carries it anew if it is then a
+  // link.
+  void beforeChange(int pair);
   void invalidateSolveState();
   std::size_t solveStateBytes() const;
   // Checks the state against the pairs (the links it holds are the active ones, as stored, but

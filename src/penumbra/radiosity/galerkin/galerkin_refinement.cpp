@@ -127,7 +127,7 @@ int GalerkinRadiosity::appendPair(const RefineTask& task, GLink::State state,
     ++parent.childCount;
   }
   links_.push_back(std::move(link));
-  noteChanged(index);
+  beforeChange(index);  // new: the next solve carries it
   return index;
 }
 
@@ -139,11 +139,11 @@ long long GalerkinRadiosity::dropChildren(int pair) {
   link.childCount = 0;
   for (int c = first; c < first + count; ++c) {
     dropped += 1 + dropChildren(c);
+    beforeChange(c);
     GLink& child = links_[c];
     if (child.state == GLink::kActive || child.state == GLink::kPassive) --linkCount_;
     child.state = GLink::kDropped;
     child.candidates.reset();
-    noteChanged(c);
     ++droppedPairs_;
   }
   return dropped;
@@ -396,10 +396,10 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
     // Its children filter what its own estimate used (made again if it was not kept).
     const NodeRef r = link.receiver, s = link.source;
     const Candidates own = candidatesFor(i);
+    beforeChange(i);
     GLink& split = links_[i];
     split.state = GLink::kPassive;
     split.splitReceiver = *end == r;
-    noteChanged(i);
     queueChildren(r, s, *end, own, i, wave);
   }
   if (wave.empty()) return outcome;

@@ -52,6 +52,54 @@ LinearRgb magnitudeOver(const SolveLink& link, const LinearRgb& source) {
   return magnitude;
 }
 
+// Adds what a change of its source's function (`from`; a cluster's: of its lobes) brings over a
+// carried link to the solve state's indirect sums.
+template <class State, class Link>
+void carryChange(State& state, const Link& link, const LinearRgb& from, const AxisLobes& lobes) {
+  LinearRgb source{};
+  if (link.source.isCluster())
+    source[0] = exitanceToward(lobes, link.direction * -1.0);
+  else
+    source = from;
+  const LinearRgb arriving = arrivingOver(link, source);
+  if (link.receiver.isCluster()) {
+    addArriving(state.clusterGathered[link.receiver.index], arriving[0], link.direction);
+  } else {
+    LinearRgb& to = state.gathered[link.receiver.index];
+    for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
+  }
+}
+
+// Adds (sign 1) or takes back (-1) what a carried link brings to its receiver's sums: the direct
+// part from its source's emission as the state last saw it, the indirect from what the source
+// last sent.
+template <class State, class Link, class Elements, class Clusters>
+void carryLink(State& state, Elements& elements, Clusters& clusters, const Link& link,
+               double sign) {
+  const Vec3 toward = link.direction * -1.0;
+  LinearRgb emitted{}, reflected{};
+  if (link.source.isCluster()) {
+    emitted[0] = exitanceToward(state.clusterEmitted[link.source.index], toward) * sign;
+    reflected[0] = exitanceToward(state.clusterSent[link.source.index], toward) * sign;
+  } else {
+    emitted[0] = state.emission[link.source.index] * sign;
+    for (int alpha = 0; alpha < 3; ++alpha)
+      reflected[alpha] = state.sent[link.source.index][alpha] * sign;
+  }
+  const LinearRgb direct = arrivingOver(link, emitted), indirect = arrivingOver(link, reflected);
+  if (link.receiver.isCluster()) {
+    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
+    addArriving(state.clusterGathered[link.receiver.index], indirect[0], link.direction);
+  } else {
+    LinearRgb& d = elements[link.receiver.index].node.gatheredDirect;
+    LinearRgb& i = state.gathered[link.receiver.index];
+    for (int beta = 0; beta < 3; ++beta) {
+      d[beta] += direct[beta];
+      i[beta] += indirect[beta];
+    }
+  }
+}
+
 }  // namespace
 
 void GalerkinRadiosity::pullEmission(NodeRef n) {
@@ -95,26 +143,40 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
   for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * shares[f]);
 }
 
-void GalerkinRadiosity::noteChanged(int pair) {
-  // Only a valid state carries changes: else the next solve gathers everything anyway.
-  if (!solveState_ || !solveState_->valid) return;
-  if (pairChanged_.size() <= size_t(pair)) pairChanged_.resize(links_.size(), 0);
-  if (pairChanged_[pair]) return;
-  pairChanged_[pair] = 1;
-  changedPairs_.push_back(pair);
-}
-
 std::size_t GalerkinRadiosity::solveStateBytes() const {
   std::size_t bytes = changedPairs_.capacity() * sizeof(int) + pairChanged_.capacity();
   if (!solveState_) return bytes;
   const SolveState& state = *solveState_;
-  return bytes + sizeof(SolveState) + state.links.capacity() * sizeof(SolveState::Link) +
-         state.slotOfPair.capacity() * sizeof(int) +
-         (state.sent.capacity() + state.gathered.capacity()) * sizeof(LinearRgb) +
+  bytes += sizeof(SolveState) + state.carried.capacity() +
+           (state.fromElement.capacity() + state.fromCluster.capacity()) *
+               sizeof(std::vector<SolveState::Carried>);
+  for (const auto* lists : {&state.fromElement, &state.fromCluster})
+    for (const auto& list : *lists) bytes += list.capacity() * sizeof(SolveState::Carried);
+  return bytes + (state.sent.capacity() + state.gathered.capacity()) * sizeof(LinearRgb) +
          (state.clusterSent.capacity() + state.clusterGathered.capacity() +
           state.clusterEmitted.capacity()) *
              sizeof(AxisLobes) +
          state.emission.capacity() * sizeof(Rgb);
+}
+
+void GalerkinRadiosity::beforeChange(int pair) {
+  // Only a valid state carries changes: else the next solve gathers everything anyway.
+  if (!solveState_ || !solveState_->valid) return;
+  SolveState& state = *solveState_;
+  if (size_t(pair) < state.carried.size() && state.carried[size_t(pair)]) {
+    // Taken back as it was added (its source is the pair's for good).
+    std::vector<SolveState::Carried>& list = state.fromSource(links_[size_t(pair)].source);
+    const auto at = std::find_if(list.begin(), list.end(),
+                                 [&](const SolveState::Carried& c) { return c.pair == pair; });
+    carryLink(state, elements_, clusters_, *at, -1);
+    *at = list.back();
+    list.pop_back();
+    state.carried[size_t(pair)] = 0;
+  }
+  if (pairChanged_.size() <= size_t(pair)) pairChanged_.resize(links_.size(), 0);
+  if (pairChanged_[size_t(pair)]) return;
+  pairChanged_[size_t(pair)] = 1;
+  changedPairs_.push_back(pair);
 }
 
 void GalerkinRadiosity::invalidateSolveState() {
@@ -124,116 +186,69 @@ void GalerkinRadiosity::invalidateSolveState() {
 }
 
 void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
-  // The links that carry light sit together in the state (the pairs also hold the refinement's
-  // history), and what they read and write each iteration in dense arrays beside them: the
-  // elements and clusters hold far more, and the iterations run through the links many times.
+  // The sums each iteration carries into are kept from one solve to the next (SolveState), in
+  // dense arrays beside the elements and clusters, which hold far more.
   if (!solveState_) solveState_ = std::make_unique<SolveState>();
   SolveState& state = *solveState_;
-  using SolveLink = SolveState::Link;
   const size_t elementCount = elements_.size(), clusterCount = clusters_.size();
   const auto reflectedOf = [&](size_t e) {
     LinearRgb b = elements_[e].node.radiosity;
     b[0] = b[0] - elements_[e].node.emission;
     return b;
   };
+  const auto carriedOf = [&](int pair) {
+    const GLink& link = links_[size_t(pair)];
+    return SolveState::Carried{link.receiver, link.source, link.k, link.direction, pair};
+  };
   std::vector<LinearRgb>& sent = state.sent;
   std::vector<LinearRgb>& gathered = state.gathered;
   std::vector<AxisLobes>& clusterSent = state.clusterSent;
   std::vector<AxisLobes>& clusterGathered = state.clusterGathered;
-  // Adds what `from` (an element's linear function, or a cluster's lobes) sends over a link,
-  // times `sign` (-1 takes back what it carried).
-  const auto carry = [&](const SolveLink& link, const LinearRgb& from, const AxisLobes& lobes,
-                         double sign) {
-    LinearRgb source{};
-    if (link.source.isCluster())
-      source[0] = exitanceToward(lobes, link.direction * -1.0) * sign;
-    else
-      for (int alpha = 0; alpha < 3; ++alpha) source[alpha] = from[alpha] * sign;
-    const LinearRgb arriving = arrivingOver(link, source);
-    if (link.receiver.isCluster()) {
-      addArriving(clusterGathered[link.receiver.index], arriving[0], link.direction);
-    } else {
-      LinearRgb& to = gathered[link.receiver.index];
-      for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
-    }
-  };
-  const auto emittedOver = [&](const SolveLink& link) {
-    return link.source.isCluster()
-               ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
-               : elements_[link.source.index].node.emission;
-  };
-  // The direct part (emission does not change between iterations), times `sign`.
-  const auto carryDirect = [&](const SolveLink& link, double sign) {
-    const LinearRgb direct = arrivingOver(link, LinearRgb{emittedOver(link) * sign, {}, {}});
-    if (link.receiver.isCluster()) {
-      addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
-    } else {
-      Node& receiver = elements_[link.receiver.index].node;
-      for (int beta = 0; beta < 3; ++beta) receiver.gatheredDirect[beta] += direct[beta];
-    }
-  };
-  const auto carrySent = [&](const SolveLink& link, double sign) {
-    carry(link, link.source.isCluster() ? LinearRgb{} : sent[link.source.index],
-          link.source.isCluster() ? clusterSent[link.source.index] : AxisLobes{}, sign);
-  };
-  const auto solveLinkOf = [&](int pair) {
-    const GLink& link = links_[size_t(pair)];
-    return SolveLink{link.receiver, link.source, link.k, link.direction, pair};
-  };
 
   // From a previous solve whose sums are still valid, and with the emission they were made
-  // with, only the links changed since are carried anew: what each carried is taken back and
-  // what it carries now added. Else every sum is made again.
+  // with, only the pairs changed since are carried anew (what they carried before was taken
+  // back as they changed: beforeChange). Else every sum is made again.
   bool incremental = fromPrevious && state.valid && state.clusterEmitted.size() == clusterCount &&
                      state.emission.size() <= elementCount;
   for (size_t e = 0; incremental && e < state.emission.size(); ++e)
     incremental = state.emission[e] == elements_[e].node.emission;
   for (size_t c = 0; incremental && c < clusterCount; ++c)
     incremental = state.clusterEmitted[c] == clusters_[c].emittedLobes;
+  state.carried.resize(links_.size(), 0);
   if (incremental) {
     // Elements split since: nothing carried to or from them yet.
     for (size_t e = sent.size(); e < elementCount; ++e) {
       sent.push_back(reflectedOf(e));
       gathered.push_back({});
       state.emission.push_back(elements_[e].node.emission);
+      state.fromElement.emplace_back();
       elements_[e].node.gatheredDirect = {};
     }
-    state.slotOfPair.resize(links_.size(), -1);
     for (int pair : changedPairs_) {
-      int& slot = state.slotOfPair[size_t(pair)];
-      if (slot >= 0) {
-        carryDirect(state.links[size_t(slot)], -1);
-        carrySent(state.links[size_t(slot)], -1);
-      }
-      if (links_[size_t(pair)].active()) {
-        if (slot < 0) {
-          slot = int(state.links.size());
-          state.links.emplace_back();
-        }
-        state.links[size_t(slot)] = solveLinkOf(pair);
-        carryDirect(state.links[size_t(slot)], 1);
-        carrySent(state.links[size_t(slot)], 1);
-      } else if (slot >= 0) {  // the last link fills its place
-        const int last = int(state.links.size()) - 1;
-        if (slot != last) {
-          state.links[size_t(slot)] = state.links[size_t(last)];
-          state.slotOfPair[size_t(state.links[size_t(slot)].pair)] = slot;
-        }
-        state.links.pop_back();
-        slot = -1;
-      }
+      const GLink& link = links_[size_t(pair)];
+      if (!link.active()) continue;
+      std::vector<SolveState::Carried>& list = state.fromSource(link.source);
+      list.push_back(carriedOf(pair));
+      carryLink(state, elements_, clusters_, list.back(), 1);
+      state.carried[size_t(pair)] = 1;
     }
   } else {
-    state.links.clear();
-    state.slotOfPair.assign(links_.size(), -1);
+    state.fromElement.assign(elementCount, {});
+    state.fromCluster.assign(clusterCount, {});
+    std::fill(state.carried.begin(), state.carried.end(), 0);
+    // Each list sized to what it holds: they are kept (an update adds a few and takes a few).
+    std::vector<int> elementLinks(elementCount, 0), clusterLinks(clusterCount, 0);
+    for (const GLink& link : links_)
+      if (link.active())
+        ++(link.source.isCluster() ? clusterLinks[link.source.index]
+                                   : elementLinks[link.source.index]);
+    for (size_t e = 0; e < elementCount; ++e) state.fromElement[e].reserve(elementLinks[e]);
+    for (size_t c = 0; c < clusterCount; ++c) state.fromCluster[c].reserve(clusterLinks[c]);
     for (size_t i = 0; i < links_.size(); ++i)
       if (links_[i].active()) {
-        state.slotOfPair[i] = int(state.links.size());
-        state.links.push_back(solveLinkOf(int(i)));
+        state.carried[i] = 1;
+        state.fromSource(links_[i].source).push_back(carriedOf(int(i)));
       }
-    for (GElement& e : elements_) e.node.gatheredDirect = {};
-    for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
-    for (const SolveLink& link : state.links) carryDirect(link, 1);
     sent.resize(elementCount);
     gathered.resize(elementCount);
     clusterSent.resize(clusterCount);
@@ -242,11 +257,34 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
     for (size_t e = 0; e < elementCount; ++e) state.emission[e] = elements_[e].node.emission;
     state.clusterEmitted.resize(clusterCount);
     for (size_t c = 0; c < clusterCount; ++c) state.clusterEmitted[c] = clusters_[c].emittedLobes;
+    // The direct part once (emission does not change between iterations).
+    for (GElement& e : elements_) e.node.gatheredDirect = {};
+    for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
+    for (size_t e = 0; e < elementCount; ++e) gathered[e] = {};
+    for (size_t c = 0; c < clusterCount; ++c) clusterGathered[c] = {};
+    for (const auto* lists : {&state.fromElement, &state.fromCluster})
+      for (const auto& list : *lists)
+        for (const SolveState::Carried& link : list) {
+          // Direct only: the indirect sums are made by the first iteration.
+          const LinearRgb emitted{
+              link.source.isCluster()
+                  ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
+                  : elements_[link.source.index].node.emission,
+              {},
+              {}};
+          const LinearRgb direct = arrivingOver(link, emitted);
+          if (link.receiver.isCluster()) {
+            addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0],
+                        link.direction);
+          } else {
+            LinearRgb& d = elements_[link.receiver.index].node.gatheredDirect;
+            for (int beta = 0; beta < 3; ++beta) d[beta] += direct[beta];
+          }
+        }
     state.valid = true;
   }
   for (int pair : changedPairs_) pairChanged_[size_t(pair)] = 0;
   changedPairs_.clear();
-  const std::vector<SolveLink>& active = state.links;
 
   const auto gatherAll = [&] {
     for (size_t e = 0; e < elementCount; ++e) {
@@ -257,23 +295,13 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       clusterSent[c] = clusters_[c].reflectedLobes;
       clusterGathered[c] = {};
     }
-    for (const SolveLink& link : active) carrySent(link, 1);
+    for (size_t e = 0; e < elementCount; ++e)
+      for (const SolveState::Carried& link : state.fromElement[e])
+        carryChange(state, link, sent[e], {});
+    for (size_t c = 0; c < clusterCount; ++c)
+      for (const SolveState::Carried& link : state.fromCluster[c])
+        carryChange(state, link, {}, clusterSent[c]);
   };
-
-  // From a previous solution most sources hardly change: each iteration carries only the
-  // changes of the sources that changed by more than a fraction of the convergence threshold
-  // (their links found through a by-source index), the rest kept in the sums; what is left
-  // behind is below the accuracy the solve stops at.
-  std::vector<int> firstBySource, bySource;
-  if (fromPrevious) {
-    firstBySource.assign(elementCount + clusterCount + 1, 0);
-    const auto slot = [&](NodeRef n) { return n.isCluster() ? elementCount + n.index : n.index; };
-    for (const SolveLink& link : active) ++firstBySource[slot(link.source) + 1];
-    for (size_t i = 1; i < firstBySource.size(); ++i) firstBySource[i] += firstBySource[i - 1];
-    bySource.resize(active.size());
-    std::vector<int> next(firstBySource.begin(), firstBySource.end() - 1);
-    for (size_t l = 0; l < active.size(); ++l) bySource[next[slot(active[l].source)]++] = int(l);
-  }
   const auto largestLeafReflected = [&] {
     double largest = 0;
     for (const GElement& e : elements_)
@@ -281,6 +309,9 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
         largest = std::max(largest, (e.node.radiosity[0] - e.node.emission).maxComponent());
     return largest;
   };
+  // From a previous solution most sources hardly change: each iteration carries only the
+  // changes of the sources that changed by more than a fraction of the convergence threshold,
+  // the rest kept in the sums; what is left behind is below the accuracy the solve stops at.
   double largestReflected = incremental ? largestLeafReflected() : 0;
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     if (!fromPrevious || (iteration == 0 && !incremental)) {
@@ -298,8 +329,8 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
         }
         if (largest <= threshold) continue;
         sent[e] = now;
-        for (int l = firstBySource[e]; l < firstBySource[e + 1]; ++l)
-          carry(active[size_t(bySource[size_t(l)])], delta, {}, 1);
+        for (const SolveState::Carried& link : state.fromElement[e])
+          carryChange(state, link, delta, {});
       }
       for (size_t c = 0; c < clusterCount; ++c) {
         AxisLobes delta;
@@ -312,9 +343,8 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
         // Lobes carry flux (B A): compared per unit of the cluster's area.
         if (largest <= threshold * clusters_[c].structure.area) continue;
         clusterSent[c] = clusters_[c].reflectedLobes;
-        const size_t at = elementCount + c;
-        for (int l = firstBySource[at]; l < firstBySource[at + 1]; ++l)
-          carry(active[size_t(bySource[size_t(l)])], {}, delta, 1);
+        for (const SolveState::Carried& link : state.fromCluster[c])
+          carryChange(state, link, {}, delta);
       }
     }
     const double change = pushPull({NodeRef::kCluster, 0}, {}, {});
@@ -335,55 +365,63 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
 std::string GalerkinRadiosity::verifySolveState() const {
   if (!solveState_ || !solveState_->valid) return {};
   const SolveState& state = *solveState_;
-  const auto changed = [&](size_t pair) {
-    return pair < pairChanged_.size() && pairChanged_[pair] != 0;
-  };
-  const auto same = [](const SolveState::Link& a, const GLink& b) {
-    return a.receiver == b.receiver && a.source == b.source &&
-           std::memcmp(&a.k, &b.k, sizeof a.k) == 0 &&
-           std::memcmp(&a.direction, &b.direction, sizeof a.direction) == 0;
-  };
   for (size_t i = 0; i < links_.size(); ++i) {
-    if (changed(i)) continue;
-    const int slot = i < state.slotOfPair.size() ? state.slotOfPair[i] : -1;
-    if (links_[i].active() != (slot >= 0))
+    const bool changed = i < pairChanged_.size() && pairChanged_[i] != 0;
+    const bool carried = i < state.carried.size() && state.carried[i] != 0;
+    // A changed pair was taken back as it changed; the next solve carries it.
+    if (carried != (links_[i].active() && !changed))
       return "pair " + std::to_string(i) +
-             (slot >= 0 ? ": carried by the solve, yet not a link"
-                        : ": a link the solve does not carry");
-    if (slot >= 0 &&
-        (state.links[size_t(slot)].pair != int(i) || !same(state.links[size_t(slot)], links_[i])))
-      return "pair " + std::to_string(i) + ": the solve carries it as it was before a change";
+             (carried ? ": carried by the solve, yet not a link"
+                      : ": a link the solve does not carry");
   }
-  // The sums made again, in the order of the state's links, with the magnitudes they add up
-  // (what rounding is measured against).
+  // The sums made again from the links carried, with the magnitudes they add up (what rounding
+  // is measured against).
   const size_t elementCount = state.gathered.size(), clusterCount = state.clusterGathered.size();
   std::vector<LinearRgb> gathered(elementCount), direct(elementCount), scale(elementCount);
   std::vector<AxisLobes> clusterGathered(clusterCount), clusterDirect(clusterCount),
       clusterScale(clusterCount);
-  for (const SolveState::Link& link : state.links) {
-    const Vec3 toward = link.direction * -1.0;
-    LinearRgb reflected{}, emitted{};
-    if (link.source.isCluster()) {
-      reflected[0] = exitanceToward(state.clusterSent[link.source.index], toward);
-      emitted[0] = exitanceToward(state.clusterEmitted[link.source.index], toward);
-    } else {
-      reflected = state.sent[link.source.index];
-      emitted[0] = state.emission[link.source.index];
-    }
-    const LinearRgb a = arrivingOver(link, reflected), d = arrivingOver(link, emitted);
-    const LinearRgb magnitude = magnitudeOver(link, reflected), m = magnitudeOver(link, emitted);
-    if (link.receiver.isCluster()) {
-      addArriving(clusterGathered[link.receiver.index], a[0], link.direction);
-      addArriving(clusterDirect[link.receiver.index], d[0], link.direction);
-      addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.direction);
-    } else {
-      for (int beta = 0; beta < 3; ++beta) {
-        gathered[link.receiver.index][beta] += a[beta];
-        direct[link.receiver.index][beta] += d[beta];
-        scale[link.receiver.index][beta] += magnitude[beta] + m[beta];
+  long long listed = 0;
+  for (size_t source = 0; source < elementCount + clusterCount; ++source) {
+    const bool isCluster = source >= elementCount;
+    const size_t index = isCluster ? source - elementCount : source;
+    const std::vector<SolveState::Carried>& list =
+        isCluster ? state.fromCluster[index] : state.fromElement[index];
+    for (const SolveState::Carried& link : list) {
+      ++listed;
+      const GLink& stored = links_[size_t(link.pair)];
+      if (!state.carried[size_t(link.pair)] || link.source.isCluster() != isCluster ||
+          link.source.index != int(index) || !(link.receiver == stored.receiver) ||
+          !(link.source == stored.source) || std::memcmp(&link.k, &stored.k, sizeof link.k) != 0 ||
+          std::memcmp(&link.direction, &stored.direction, sizeof link.direction) != 0)
+        return "pair " + std::to_string(link.pair) +
+               ": carried by the solve as it was before a change, or under another source";
+      const Vec3 toward = link.direction * -1.0;
+      LinearRgb reflected{}, emitted{};
+      if (isCluster) {
+        reflected[0] = exitanceToward(state.clusterSent[index], toward);
+        emitted[0] = exitanceToward(state.clusterEmitted[index], toward);
+      } else {
+        reflected = state.sent[index];
+        emitted[0] = state.emission[index];
+      }
+      const LinearRgb a = arrivingOver(link, reflected), d = arrivingOver(link, emitted);
+      const LinearRgb magnitude = magnitudeOver(link, reflected), m = magnitudeOver(link, emitted);
+      if (link.receiver.isCluster()) {
+        addArriving(clusterGathered[link.receiver.index], a[0], link.direction);
+        addArriving(clusterDirect[link.receiver.index], d[0], link.direction);
+        addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.direction);
+      } else {
+        for (int beta = 0; beta < 3; ++beta) {
+          gathered[link.receiver.index][beta] += a[beta];
+          direct[link.receiver.index][beta] += d[beta];
+          scale[link.receiver.index][beta] += magnitude[beta] + m[beta];
+        }
       }
     }
   }
+  long long carriedCount = 0;
+  for (char c : state.carried) carriedCount += c;
+  if (listed != carriedCount) return "the solve lists a pair twice, or leaves one out";
   // Each add and take-back rounds by an ulp of the running sum, which may have held terms since
   // taken back (a receiver that lost its links keeps a residue of what they carried): allowed
   // 1e-9 of the terms it holds, and at least 1e-12 of the largest sum anywhere. A link carried

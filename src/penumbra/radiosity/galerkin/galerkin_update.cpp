@@ -249,9 +249,9 @@ void GalerkinRadiosity::setState(GLink& link, GLink::State state) {
   const auto counts = [](GLink::State s) {
     return s == GLink::kActive || s == GLink::kPassive ? 1 : 0;
   };
+  beforeChange(int(&link - links_.data()));
   linkCount_ += counts(state) - counts(link.state);
   link.state = state;
-  noteChanged(int(&link - links_.data()));
 }
 
 void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
@@ -439,11 +439,10 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       }
       const Estimate& e = out.estimate;
       std::optional<NodeRef> end;
-      if (oracleOf(r, s, e) > threshold_)
-        end = endToSplit(r, s);
+      if (oracleOf(r, s, e) > threshold_) end = endToSplit(r, s);
+      beforeChange(i);
       GLink& link = links_[i];
       storeEstimate(link, e);
-      noteChanged(i);
       if (out.own) {
         // The same list as before stays the same block: its children not met share it still.
         if (link.candidates && out.own != link.candidates && *out.own == *link.candidates)
