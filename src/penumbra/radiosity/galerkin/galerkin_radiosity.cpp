@@ -48,6 +48,7 @@ void GalerkinRadiosity::clear() {
   links_.clear();
   linkCount_ = 0;
   droppedPairs_ = 0;
+  shaftHolders_.clear();
   stats_ = {};
   invalidateSolveState();
 }

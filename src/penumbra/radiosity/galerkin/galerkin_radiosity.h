@@ -413,7 +413,13 @@ class GalerkinRadiosity {
   // they are all of it, one shared empty list when none.
   static Candidates shared(std::vector<PolygonId> own, const Candidates& inherited);
   // A pair keeps `own`, its estimate's candidates, and their count.
-  void keepCandidates(GLink& link, const Candidates& own) const;
+  void keepCandidates(GLink& link, const Candidates& own);
+  // Marks a pair's list as used by this update (its age) and, under ShaftPolicy::kManaged,
+  // names it among the lists the collection looks at.
+  void touchShaft(int pair);
+  // The pairs whose lists were made or used since the last collection, and those it kept (ids
+  // may repeat): the collection looks at these, not at every pair.
+  std::vector<int> shaftHolders_;
   // A pair's candidates, made from its parent's (recursively, the root's always kept) when they
   // are absent; stamped as used by this update. On one thread only.
   const Candidates& candidatesFor(int pair);

@@ -74,10 +74,15 @@ GalerkinRadiosity::Candidates GalerkinRadiosity::shared(std::vector<PolygonId> o
   return std::make_shared<const std::vector<PolygonId>>(own.begin(), own.end());
 }
 
-void GalerkinRadiosity::keepCandidates(GLink& link, const Candidates& own) const {
+void GalerkinRadiosity::keepCandidates(GLink& link, const Candidates& own) {
   link.candidates = own;
   link.candidateCount = std::uint32_t(own->size());
-  link.shaftUsed = serial_;
+  touchShaft(int(&link - links_.data()));
+}
+
+void GalerkinRadiosity::touchShaft(int pair) {
+  links_[size_t(pair)].shaftUsed = serial_;
+  if (managed()) shaftHolders_.push_back(pair);
 }
 
 const GalerkinRadiosity::Candidates& GalerkinRadiosity::candidatesFor(int pair) {
@@ -91,7 +96,7 @@ const GalerkinRadiosity::Candidates& GalerkinRadiosity::candidatesFor(int pair) 
             ? inherited
             : shared(shaftCandidates(made.receiver, made.source, *inherited), inherited);
   }
-  links_[pair].shaftUsed = serial_;
+  touchShaft(pair);
   return links_[pair].candidates;
 }
 
@@ -218,6 +223,10 @@ void GalerkinRadiosity::compactPairs() {
   }
   links_ = std::move(compact);
   droppedPairs_ = 0;
+  shaftHolders_.clear();  // renumbered: the pairs holding lists named again
+  if (managed())
+    for (size_t i = 1; i < links_.size(); ++i)
+      if (links_[i].candidates) shaftHolders_.push_back(int(i));
 }
 
 long long GalerkinRadiosity::compactElements() {

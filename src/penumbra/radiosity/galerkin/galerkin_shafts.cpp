@@ -53,6 +53,7 @@ void GalerkinRadiosity::awaitShaftWork() const {
 
 void GalerkinRadiosity::releaseShafts() {
   for (size_t i = 1; i < links_.size(); ++i) links_[i].candidates.reset();
+  shaftHolders_.clear();
 }
 
 void GalerkinRadiosity::recordPoses(const SceneChange& change) {
@@ -145,24 +146,34 @@ void GalerkinRadiosity::manageShafts(std::vector<Box3> predicted) {
   const ShaftManagement& m = options_.management;
   // What the lists hold, each counted once unless two pairs other than parent and child share
   // it (then more than once: an estimate on the safe side, without hashing every list).
-  std::size_t held = 0;
+  // Every list but the root's is held by a pair named in shaftHolders_ (made or used since the
+  // last collection, or kept by it): only those are looked at, not every pair.
+  std::vector<int> holders;
+  holders.swap(shaftHolders_);
+  std::sort(holders.begin(), holders.end());
+  holders.erase(std::unique(holders.begin(), holders.end()), holders.end());
+  std::size_t held =
+      links_.empty() || !links_[0].candidates ? 0 : listBytes(links_[0].candidates->size());
   if (m.collectAbove > 0)
-    for (size_t i = 0; i < links_.size(); ++i) {
-      const GLink& link = links_[i];
-      if (link.candidates && (i == 0 || link.candidates != links_[link.parent].candidates))
+    for (int i : holders) {
+      const GLink& link = links_[size_t(i)];
+      if (i > 0 && link.candidates && link.candidates != links_[link.parent].candidates)
         held += listBytes(link.candidates->size());
     }
-  if (m.collectAbove == 0 || held > m.collectAbove)
-    for (size_t i = 1; i < links_.size(); ++i) {
-      GLink& link = links_[i];
-      // A cluster's pair with itself holds the root's list: nothing to release.
-      if (link.candidates && link.state != GLink::kSelf &&
-          (serial_ - link.shaftUsed >= std::uint32_t(m.minAge) || !worthKeeping(link))) {
-        link.candidates.reset();
-        link.feedsMovedEnd = false;
-        ++lastUpdate_.shaftsCollected;
-      }
+  const bool collect = m.collectAbove == 0 || held > m.collectAbove;
+  for (int i : holders) {
+    GLink& link = links_[size_t(i)];
+    if (i == 0 || !link.candidates) continue;
+    // A cluster's pair with itself holds the root's list: nothing to release.
+    if (collect && link.state != GLink::kSelf &&
+        (serial_ - link.shaftUsed >= std::uint32_t(m.minAge) || !worthKeeping(link))) {
+      link.candidates.reset();
+      link.feedsMovedEnd = false;
+      ++lastUpdate_.shaftsCollected;
+    } else {
+      shaftHolders_.push_back(i);
     }
+  }
   lastUpdate_.shaftSeconds = clock.seconds();
   statsCounted_ = false;  // the lists held changed
 }

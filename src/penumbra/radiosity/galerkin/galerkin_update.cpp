@@ -417,7 +417,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
           const GLink& parent = links_[links_[i].parent];
           links_[i].candidates = parent.candidates;
           links_[i].candidateCount = parent.candidateCount;
-          links_[i].shaftUsed = serial_;
+          touchShaft(i);
         }
         visitChildren(met[m].inheritedChanged, met[m].inheritedBefore, met[m].movedBefore,
                       met[m].movedAfter);
