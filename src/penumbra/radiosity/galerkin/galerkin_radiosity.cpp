@@ -49,6 +49,8 @@ void GalerkinRadiosity::clear() {
   linkCount_ = 0;
   droppedPairs_ = 0;
   shaftHolders_.clear();
+  lastMovedAfter_.clear();
+  lastMovedIds_.clear();
   stats_ = {};
   invalidateSolveState();
 }

@@ -35,6 +35,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -445,6 +446,11 @@ class GalerkinRadiosity {
   // old shaft) or after it, filtered from its parent's: a few positions in Move::movedIds, so
   // cheap where the whole list is not.
   using MovedPart = std::shared_ptr<const std::vector<std::uint32_t>>;
+  // The moved part after the last update's move of each pair it met, and which polygons that
+  // move moved: when the next update moves the same ones, a pair's part before its move is that
+  // (the same filtering, from the root down, of the same boxes by the same shafts).
+  std::unordered_map<int, MovedPart> lastMovedAfter_;
+  std::vector<PolygonId> lastMovedIds_;
   MovedPart movedPart(const Move& move, NodeRef r, NodeRef s,
                       const std::vector<std::uint32_t>& among, bool before) const;
   // A kept pair's candidates at the new pose: its old ones without the moved polygons, merged

@@ -223,7 +223,8 @@ void GalerkinRadiosity::compactPairs() {
   }
   links_ = std::move(compact);
   droppedPairs_ = 0;
-  shaftHolders_.clear();  // renumbered: the pairs holding lists named again
+  lastMovedAfter_.clear();  // it names pairs by their places
+  shaftHolders_.clear();    // renumbered: the pairs holding lists named again
   if (managed())
     for (size_t i = 1; i < links_.size(); ++i)
       if (links_[i].candidates) shaftHolders_.push_back(int(i));

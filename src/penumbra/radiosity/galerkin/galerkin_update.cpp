@@ -289,6 +289,8 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
   };
   std::vector<Visit> wave{{0, false, links_[0].candidates, move.everyMoved, move.everyMoved}};
   const size_t movedObjects = move.boxes.size() / 2;
+  const bool sameMoved = move.movedIds == lastMovedIds_;
+  std::unordered_map<int, MovedPart> movedAfter;
   Stopwatch walk;
   while (!wave.empty()) {
     walk.lap();
@@ -326,8 +328,12 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       out.exchanges = canExchange(link.receiver, link.source);
       if (!out.exchanges || link.receiver == link.source) return;
       // Before the move, the moved part is needed only to count a list that was not kept.
-      if (managed())
-        out.movedBefore = movedPart(move, link.receiver, link.source, *met[m].movedBefore, true);
+      if (managed()) {
+        const auto last = sameMoved ? lastMovedAfter_.find(met[m].pair) : lastMovedAfter_.end();
+        out.movedBefore = last != lastMovedAfter_.end()
+                              ? last->second
+                              : movedPart(move, link.receiver, link.source, *met[m].movedBefore, true);
+      }
       out.movedAfter = movedPart(move, link.receiver, link.source, *met[m].movedAfter, false);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
       out.wasEstimated = estimated;
@@ -393,6 +399,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
     for (size_t m = 0; m < met.size(); ++m) {
       const int i = met[m].pair;
       Outcome& out = outcomes[m];
+      if (out.movedAfter) movedAfter[i] = out.movedAfter;
       counters.pointPairs += out.counters.pointPairs;
       counters.visibilityRays += out.counters.visibilityRays;
       counters.unoccludedLinks += out.counters.unoccludedLinks;
@@ -482,6 +489,8 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
     }
     wave = std::move(next);
   }
+  lastMovedAfter_ = std::move(movedAfter);
+  lastMovedIds_ = move.movedIds;
 }
 
 void GalerkinRadiosity::recordPasses(const Settling& settling, int passesBefore) {
