@@ -45,6 +45,48 @@ TEST(Shaft, ContainsEverySegmentBetweenItsBoxes) {
   }
 }
 
+// containsBox is conservative the other way: a box it says is inside has every point inside, and
+// every box within it is one mayIntersect admits (the movers' blocks rely on both, exactly).
+TEST(Shaft, ContainsBoxOnlyWhenEveryPointIsInsideAndAdmitsEveryBoxWithin) {
+  std::mt19937_64 rng(11);
+  int inside = 0, straddling = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Box3 a = randomBox(rng), b = randomBox(rng);
+    const Shaft shaft(a, b);
+    // Boxes around a point of the segment between the ends: some inside, some across a face.
+    std::uniform_real_distribution<double> t(0, 1), size(0, 2);
+    const Vec3 p = pointIn(a, rng), q = pointIn(b, rng);
+    const Vec3 centre = p + (q - p) * t(rng);
+    const Vec3 half{size(rng), size(rng), size(rng)};
+    const Box3 box{centre - half * 0.5, centre + half * 0.5};
+    if (!shaft.containsBox(box)) {
+      straddling += shaft.mayIntersect(box);
+      continue;
+    }
+    ++inside;
+    for (int k = 0; k < 20; ++k) ASSERT_TRUE(shaft.contains(pointIn(box, rng))) << trial;
+    for (int k = 0; k < 20; ++k) {
+      Box3 within;
+      within.extend(pointIn(box, rng));
+      within.extend(pointIn(box, rng));
+      ASSERT_TRUE(shaft.mayIntersect(within)) << trial;
+    }
+    // Its own corners as degenerate boxes, the extreme case of a box within.
+    for (const Vec3& corner : {box.min, box.max}) {
+      Box3 point;
+      point.extend(corner);
+      ASSERT_TRUE(shaft.mayIntersect(point)) << trial;
+    }
+  }
+  // Both outcomes occur often enough to have been tested.
+  EXPECT_GT(inside, 200);
+  EXPECT_GT(straddling, 200);
+  EXPECT_FALSE(Shaft(Box3{{0, 0, 0}, {1, 1, 1}}, Box3{{5, 0, 0}, {6, 1, 1}})
+                   .containsBox(Box3{{2, 0.5, 0.5}, {3, 1.5, 0.6}}));
+  EXPECT_TRUE(Shaft(Box3{{0, 0, 0}, {1, 1, 1}}, Box3{{5, 0, 0}, {6, 1, 1}})
+                  .containsBox(Box3{{2, 0.25, 0.25}, {3, 0.75, 0.75}}));
+}
+
 TEST(Shaft, CutsOffTheHullCorners) {
   // Two unit boxes on a diagonal: the hull's other corners are outside the shaft.
   Box3 a, b;

@@ -128,6 +128,18 @@ bool Shaft::mayIntersect(const Box3& box) const {
   return true;
 }
 
+bool Shaft::containsBox(const Box3& box) const {
+  if (box.isEmpty() || !(hull_.contains(box.min) && hull_.contains(box.max))) return false;
+  for (int k = 0; k < planeCount_; ++k) {
+    const Vec3& n = planes_[k].normal;
+    // The box corner furthest towards the outside of the plane.
+    const Vec3 outer{n.x > 0 ? box.max.x : box.min.x, n.y > 0 ? box.max.y : box.min.y,
+                     n.z > 0 ? box.max.z : box.min.z};
+    if (planes_[k].signedDistance(outer) > 0) return false;
+  }
+  return true;
+}
+
 bool Shaft::contains(const Vec3& p, double tolerance) const {
   if (!hull_.expanded(tolerance).contains(p)) return false;
   for (int k = 0; k < planeCount_; ++k)

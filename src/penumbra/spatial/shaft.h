@@ -34,6 +34,11 @@ class Shaft {
   // Conservative: false only when `box` certainly misses the shaft (it lies outside the hull box
   // or entirely on the outer side of one plane).
   bool mayIntersect(const Box3& box) const;
+  // Conservative the other way: true only when all of `box` certainly lies in the shaft (inside
+  // the hull box and on the inner side of every plane). Then mayIntersect is true for every
+  // non-empty box inside `box`: both tests are monotone in the box, rounding included (a rounded
+  // product or sum is monotone in each argument, and both evaluate the same dot products).
+  bool containsBox(const Box3& box) const;
   // Is p inside the shaft (within `tolerance` of it)?
   bool contains(const Vec3& p, double tolerance = 0) const;
 

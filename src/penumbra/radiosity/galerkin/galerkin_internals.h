@@ -51,6 +51,12 @@ struct GalerkinRadiosity::Move {
   // (GalerkinRadiosity::MovedPart) holds positions in these.
   std::vector<PolygonId> movedIds;
   std::vector<Box3> movedBoundsBefore;
+  // Blocks of at most kBlockSize consecutive moved polygons of one object, with their bounds
+  // before and after: a shaft that holds a block's box whole, or misses it, decides for all of
+  // its polygons at once (GalerkinRadiosity::movedPart).
+  static constexpr std::size_t kBlockSize = 8;
+  std::vector<std::uint32_t> blockOf;  // per moved polygon
+  std::vector<Box3> blockBoundsBefore, blockBoundsAfter;
   std::shared_ptr<const std::vector<std::uint32_t>> everyMoved;  // the root's moved part
   bool endChanged(NodeRef n) const {
     return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;

@@ -451,8 +451,8 @@ class GalerkinRadiosity {
   // (the same filtering, from the root down, of the same boxes by the same shafts).
   std::unordered_map<int, MovedPart> lastMovedAfter_;
   std::vector<PolygonId> lastMovedIds_;
-  MovedPart movedPart(const Move& move, NodeRef r, NodeRef s,
-                      const std::vector<std::uint32_t>& among, bool before) const;
+  MovedPart movedPart(const Move& move, NodeRef r, NodeRef s, const MovedPart& parentPart,
+                      bool before) const;
   // A kept pair's candidates at the new pose: its old ones without the moved polygons, merged
   // in order with the moved ones it has now (movedPart), as a fresh filtering gives them.
   static std::vector<PolygonId> withMovedPolygons(const Move& move,

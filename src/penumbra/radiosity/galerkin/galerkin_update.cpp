@@ -143,6 +143,22 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
     move.movedIds.push_back(id);
     move.movedBoundsBefore.push_back(box);
   }
+  for (size_t k = 0, inBlock = 0; k < move.movedIds.size(); ++k, ++inBlock) {
+    const PolygonId id = move.movedIds[k];
+    const auto objectOf = [&](PolygonId p) {
+      return std::upper_bound(scene_.objectFirstPolygon.begin(), scene_.objectFirstPolygon.end(),
+                              p) -
+             scene_.objectFirstPolygon.begin();
+    };
+    if (k == 0 || inBlock == Move::kBlockSize || objectOf(id) != objectOf(move.movedIds[k - 1])) {
+      inBlock = 0;
+      move.blockBoundsBefore.emplace_back();
+      move.blockBoundsAfter.emplace_back();
+    }
+    move.blockOf.push_back(std::uint32_t(move.blockBoundsBefore.size() - 1));
+    move.blockBoundsBefore.back().extend(move.movedBoundsBefore[k]);
+    move.blockBoundsAfter.back().extend(polygonBounds_[id]);
+  }
   std::vector<std::uint32_t> every(move.movedIds.size());
   for (size_t k = 0; k < every.size(); ++k) every[k] = std::uint32_t(k);
   move.everyMoved = std::make_shared<const std::vector<std::uint32_t>>(std::move(every));
@@ -198,21 +214,36 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
 }
 
 GalerkinRadiosity::MovedPart GalerkinRadiosity::movedPart(const Move& move, NodeRef r, NodeRef s,
-                                                          const std::vector<std::uint32_t>& among,
+                                                          const MovedPart& parentPart,
                                                           bool before) const {
+  const std::vector<std::uint32_t>& among = *parentPart;
   // As shaftCandidates filters, on the moved polygons alone (at their old bounds before).
   static const MovedPart kNone = std::make_shared<const std::vector<std::uint32_t>>();
   if (among.empty()) return kNone;
   const Shaft shaft =
       before ? Shaft(boundsBefore(move, r), boundsBefore(move, s)) : Shaft(bounds(r), bounds(s));
   const auto [ownR, ownS] = ownPolygons(r, s);
+  const std::vector<Box3>& blocks = before ? move.blockBoundsBefore : move.blockBoundsAfter;
   std::vector<std::uint32_t> part;
-  for (std::uint32_t k : among) {
-    const PolygonId id = move.movedIds[k];
-    if (id != ownR && id != ownS &&
-        shaft.mayIntersect(before ? move.movedBoundsBefore[k] : polygonBounds_[id]))
-      part.push_back(k);
+  for (size_t at = 0; at < among.size();) {
+    // The run of `among` in one block: where the shaft holds the block's box whole (or misses
+    // it), it admits (rejects) each of the run's polygons, as testing each would.
+    const std::uint32_t block = move.blockOf[among[at]];
+    size_t end = at + 1;
+    while (end < among.size() && move.blockOf[among[end]] == block) ++end;
+    const bool several = end - at > 1;
+    const bool all = several && shaft.containsBox(blocks[block]);
+    const bool none = several && !all && !shaft.mayIntersect(blocks[block]);
+    for (; at < end; ++at) {
+      const std::uint32_t k = among[at];
+      const PolygonId id = move.movedIds[k];
+      if (none || id == ownR || id == ownS) continue;
+      if (all || shaft.mayIntersect(before ? move.movedBoundsBefore[k] : polygonBounds_[id]))
+        part.push_back(k);
+    }
   }
+  // All of them: the parent's block, shared (most pairs near the root).
+  if (part.size() == among.size()) return parentPart;
   return std::make_shared<const std::vector<std::uint32_t>>(std::move(part));
 }
 
@@ -330,11 +361,12 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       // Before the move, the moved part is needed only to count a list that was not kept.
       if (managed()) {
         const auto last = sameMoved ? lastMovedAfter_.find(met[m].pair) : lastMovedAfter_.end();
-        out.movedBefore = last != lastMovedAfter_.end()
-                              ? last->second
-                              : movedPart(move, link.receiver, link.source, *met[m].movedBefore, true);
+        out.movedBefore =
+            last != lastMovedAfter_.end()
+                ? last->second
+                : movedPart(move, link.receiver, link.source, met[m].movedBefore, true);
       }
-      out.movedAfter = movedPart(move, link.receiver, link.source, *met[m].movedAfter, false);
+      out.movedAfter = movedPart(move, link.receiver, link.source, met[m].movedAfter, false);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
       out.wasEstimated = estimated;
       if (!kept(m) || !estimated) return;  // kFilter
