@@ -23,6 +23,15 @@ double coordinate(const Vec3& v, int axis) {
 void setCoordinate(Vec3& v, int axis, double value) {
   (axis == 0 ? v.x : axis == 1 ? v.y : v.z) = value;
 }
+// The corner of `box` furthest along the plane normal n (outwards), or against it (the corner
+// furthest towards the inside).
+Vec3 cornerAlong(const Box3& box, const Vec3& n, bool outwards) {
+  const auto pick = [&](double component, double low, double high) {
+    return (component > 0) == outwards ? high : low;
+  };
+  return {pick(n.x, box.min.x, box.max.x), pick(n.y, box.min.y, box.max.y),
+          pick(n.z, box.min.z, box.max.z)};
+}
 // Extent of `box` on the face (axis, side): side 0 is the min face, 1 the max face.
 double faceOf(const Box3& box, int axis, int side) {
   return coordinate(side == 0 ? box.min : box.max, axis);
@@ -118,25 +127,15 @@ Shaft::Shaft(const Polygon3& a, const Polygon3& b) {
 
 bool Shaft::mayIntersect(const Box3& box) const {
   if (!hull_.overlaps(box)) return false;
-  for (int k = 0; k < planeCount_; ++k) {
-    const Vec3& n = planes_[k].normal;
-    // The box corner furthest towards the inside of the plane.
-    const Vec3 inner{n.x > 0 ? box.min.x : box.max.x, n.y > 0 ? box.min.y : box.max.y,
-                     n.z > 0 ? box.min.z : box.max.z};
-    if (planes_[k].signedDistance(inner) > 0) return false;
-  }
+  for (int k = 0; k < planeCount_; ++k)
+    if (planes_[k].signedDistance(cornerAlong(box, planes_[k].normal, false)) > 0) return false;
   return true;
 }
 
 bool Shaft::containsBox(const Box3& box) const {
   if (box.isEmpty() || !(hull_.contains(box.min) && hull_.contains(box.max))) return false;
-  for (int k = 0; k < planeCount_; ++k) {
-    const Vec3& n = planes_[k].normal;
-    // The box corner furthest towards the outside of the plane.
-    const Vec3 outer{n.x > 0 ? box.max.x : box.min.x, n.y > 0 ? box.max.y : box.min.y,
-                     n.z > 0 ? box.max.z : box.min.z};
-    if (planes_[k].signedDistance(outer) > 0) return false;
-  }
+  for (int k = 0; k < planeCount_; ++k)
+    if (planes_[k].signedDistance(cornerAlong(box, planes_[k].normal, true)) > 0) return false;
   return true;
 }
 
