@@ -20,7 +20,17 @@ struct GalerkinRadiosity::Counters {
 };
 
 // A link's estimate: its coefficients and the oracle's figures.
+// What an estimate computes from a pair's two ends alone (shapes, covers, cluster boxes), before
+// any visibility: the same for as long as neither end changes.
+struct GalerkinRadiosity::EndTerms {
+  std::array<std::array<double, 4>, 4> transfers{};  // unoccluded, per point pair
+  double coveredHighest = 0;                         // the largest transfer a cover took away
+  double nearSpread = 0;  // elements nearly face to face: the exact form factors' spread
+  bool near = false;
+};
+
 struct GalerkinRadiosity::Estimate {
+  EndTerms ends;
   std::array<double, 9> k{};
   double meanTransfer = 0;        // the mean point-pair transfer
   double spread = 0;              // max − min of the point-pair transfers
@@ -36,6 +46,8 @@ struct GalerkinRadiosity::VisibilityReuse {
   std::uint16_t hiddenPairs = 0;
   bool everyRay = false;
   const std::vector<Box3>* movedBoxes = nullptr;
+  // The pair's end terms from its last estimate, if kept (GalerkinRadiosity::lastEnds_).
+  const EndTerms* ends = nullptr;
 };
 
 // What a move changed, for the line-space update's walk.

@@ -127,58 +127,95 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   const double sourceArea = area(s);
   const bool mayBeHidden = candidates.count > 0;
   if (!mayBeHidden) ++counters.unoccludedLinks;
-  // The unoccluded transfer of each pair. Between elements, each receiver point's row is scaled
-  // to its exact point-to-element form factor (Lambert's formula): the source's cubature points
-  // alone miss the kernel's peak where the elements meet (a wall's corner with the floor), and
-  // that lost energy (3.4% of a furnace room at tolerance 1e-2, 0.9% at 1e-3); the cubature then
-  // only says how the transfer spreads over the source, for its linear coefficients.
-  std::array<std::array<double, 4>, 4> transfers{};
-  // Points under a polygon in face-to-face contact see only it, which the ray caster cannot tell.
-  std::array<bool, 4> receiverCovered{}, sourceCovered{};
-  if (r.isElement())
-    for (int i = 0; i < receiver.count; ++i)
-      receiverCovered[i] = (elements_[r.index].coveredPoints >> i) & 1u;
-  if (s.isElement())
-    for (int j = 0; j < source.count; ++j)
-      sourceCovered[j] = (elements_[s.index].coveredPoints >> j) & 1u;
-  // The exact point form factors at the receiver's points, lowest and highest (elements only).
-  double lowestForm = std::numeric_limits<double>::infinity(), highestForm = 0;
-  // The largest transfer a cover took away: a partly covered element whose cubature points all
-  // lie under the covering polygon reads zero everywhere, while the rest of it may be in the open.
-  double coveredHighest = 0;
-  for (int i = 0; i < receiver.count; ++i) {
-    const Vec3& x = receiver.points[i];
-    double cubatureSum = 0;
-    for (int j = 0; j < source.count; ++j) {
-      const Vec3 d = source.points[j] - x;
-      const double r2 = dot(d, d);
-      if (!(r2 > 0)) continue;
-      const double r1 = std::sqrt(r2);
-      const double cx = receiver.isCluster ? kClusterCosine : dot(receiver.normal, d) / r1;
-      const double cy = source.isCluster ? kClusterCosine : -dot(source.normal, d) / r1;
-      if (cx > 0 && cy > 0) transfers[i][j] = sourceArea * cx * cy / (std::numbers::pi * r2);
-      cubatureSum += source.weights[j] * transfers[i][j];
+  // What the two ends alone give (kept by the last update's walk for a pair whose ends are as
+  // they were: the same numbers).
+  const auto endTermsNow = [&] {
+    EndTerms ends;
+    // The unoccluded transfer of each pair. Between elements, each receiver point's row is scaled
+    // to its exact point-to-element form factor (Lambert's formula): the source's cubature points
+    // alone miss the kernel's peak where the elements meet (a wall's corner with the floor), and
+    // that lost energy (3.4% of a furnace room at tolerance 1e-2, 0.9% at 1e-3); the cubature then
+    // only says how the transfer spreads over the source, for its linear coefficients.
+    std::array<std::array<double, 4>, 4>& transfers = ends.transfers;
+    // Points under a polygon in face-to-face contact see only it, which the ray caster cannot tell.
+    std::array<bool, 4> receiverCovered{}, sourceCovered{};
+    if (r.isElement())
+      for (int i = 0; i < receiver.count; ++i)
+        receiverCovered[i] = (elements_[r.index].coveredPoints >> i) & 1u;
+    if (s.isElement())
+      for (int j = 0; j < source.count; ++j)
+        sourceCovered[j] = (elements_[s.index].coveredPoints >> j) & 1u;
+    // The exact point form factors at the receiver's points, lowest and highest (elements only).
+    double lowestForm = std::numeric_limits<double>::infinity(), highestForm = 0;
+    // The largest transfer a cover took away: a partly covered element whose cubature points all
+    // lie under the covering polygon reads zero everywhere, while the rest of it may be in the
+    // open.
+    double coveredHighest = 0;
+    for (int i = 0; i < receiver.count; ++i) {
+      const Vec3& x = receiver.points[i];
+      double cubatureSum = 0;
+      for (int j = 0; j < source.count; ++j) {
+        const Vec3 d = source.points[j] - x;
+        const double r2 = dot(d, d);
+        if (!(r2 > 0)) continue;
+        const double r1 = std::sqrt(r2);
+        const double cx = receiver.isCluster ? kClusterCosine : dot(receiver.normal, d) / r1;
+        const double cy = source.isCluster ? kClusterCosine : -dot(source.normal, d) / r1;
+        if (cx > 0 && cy > 0) transfers[i][j] = sourceArea * cx * cy / (std::numbers::pi * r2);
+        cubatureSum += source.weights[j] * transfers[i][j];
+      }
+      if (!receiver.isCluster && !source.isCluster) {
+        const double exact = pointToElementFormFactor(x, receiver.normal, elements_[s.index].shape);
+        lowestForm = std::min(lowestForm, exact);
+        highestForm = std::max(highestForm, exact);
+        for (int j = 0; j < source.count; ++j)
+          transfers[i][j] = cubatureSum > 0 ? transfers[i][j] * (exact / cubatureSum) : exact;
+        for (int j = 0; j < source.count; ++j)
+          if (receiverCovered[i] || sourceCovered[j]) {
+            coveredHighest = std::max(coveredHighest, transfers[i][j]);
+            transfers[i][j] = 0;
+          }
+      } else {
+        // A pair's transfer is at most what a source facing the receiver wholly would send (1, in
+        // units of the cluster cosines): where the points nearly meet the bare kernel would send
+        // more than the source emits.
+        const double most =
+            (receiver.isCluster ? kClusterCosine : 1) * (source.isCluster ? kClusterCosine : 1);
+        for (int j = 0; j < source.count; ++j) transfers[i][j] = std::min(most, transfers[i][j]);
+      }
     }
+    // Where two elements nearly touch face to face (a sideboard's back 1 cm from the wall), the
+    // kernel is a step from nothing to everything across the receiver that all its Gauss points
+    // can miss: in the furnace the sideboard's back read 0.08-0.3 where every point sees the wall
+    // whole. The exact point form factors a quarter of the way in from the receiver's corners
+    // join the spread there.
     if (!receiver.isCluster && !source.isCluster) {
-      const double exact = pointToElementFormFactor(x, receiver.normal, elements_[s.index].shape);
-      lowestForm = std::min(lowestForm, exact);
-      highestForm = std::max(highestForm, exact);
-      for (int j = 0; j < source.count; ++j)
-        transfers[i][j] = cubatureSum > 0 ? transfers[i][j] * (exact / cubatureSum) : exact;
-      for (int j = 0; j < source.count; ++j)
-        if (receiverCovered[i] || sourceCovered[j]) {
-          coveredHighest = std::max(coveredHighest, transfers[i][j]);
-          transfers[i][j] = 0;
-        }
-    } else {
-      // A pair's transfer is at most what a source facing the receiver wholly would send (1, in
-      // units of the cluster cosines): where the points nearly meet the bare kernel would send
-      // more than the source emits.
-      const double most =
-          (receiver.isCluster ? kClusterCosine : 1) * (source.isCluster ? kClusterCosine : 1);
-      for (int j = 0; j < source.count; ++j) transfers[i][j] = std::min(most, transfers[i][j]);
+      const GElement &to = elements_[r.index], &from = elements_[s.index];
+      const Box3 a = to.shape.bounds(), b = from.shape.bounds();
+      Vec3 gap;
+      for (int k = 0; k < 3; ++k)
+        gap[k] = std::max({0.0, a.min[k] - b.max[k], b.min[k] - a.max[k]});
+      if (length(gap) < kNearShare * std::max(a.diagonalLength(), b.diagonalLength())) {
+        const Vec3 centre = to.shape.centroid();
+        const auto sampleAt = [&](const Vec3& x) {
+          const double form = pointToElementFormFactor(x, to.shape.normal, from.shape);
+          lowestForm = std::min(lowestForm, form);
+          highestForm = std::max(highestForm, form);
+        };
+        for (int k = 0; k < to.shape.vertexCount; ++k)
+          sampleAt(to.shape.vertices[k] + (centre - to.shape.vertices[k]) * 0.25);
+        // And right in front of a source much smaller than the receiver (a sofa's back in front
+        // of a wall): the source's centre seen straight across, when that falls on the receiver.
+        const Vec3 across = from.shape.centroid() -
+                            to.shape.normal * dot(from.shape.centroid() - centre, to.shape.normal);
+        if (to.shape.insideness(across) > 0) sampleAt(across);
+        ends.nearSpread = highestForm - lowestForm;
+        ends.near = true;
+      }
     }
-  }
+    ends.coveredHighest = coveredHighest;
+    return ends;
+  };
   // The candidates' bounds, grown by the ray caster's tolerance (it works in single precision).
   // Past a few candidates a ray costs less than testing its segment against every box (measured
   // on the furnished room, one core: a build 0.73 s with the boxes always tested, 0.46 s past 16).
@@ -192,6 +229,8 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   }
   double hiddenTransfer = 0;
   Estimate e;
+  e.ends = reuse && reuse->ends ? *reuse->ends : endTermsNow();
+  const std::array<std::array<double, 4>, 4>& transfers = e.ends.transfers;
   double lowest = std::numeric_limits<double>::infinity(), highest = 0;
   for (int i = 0; i < receiver.count; ++i) {
     const Vec3& x = receiver.points[i];
@@ -247,37 +286,11 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   e.everyRay = testEveryRay;
   e.meanTransfer = e.k[0];
   e.spread = highest - lowest;
-  // Where two elements nearly touch face to face (a sideboard's back 1 cm from the wall), the
-  // kernel is a step from nothing to everything across the receiver that all its Gauss points
-  // can miss: in the furnace the sideboard's back read 0.08-0.3 where every point sees the wall
-  // whole. The exact point form factors a quarter of the way in from the receiver's corners
-  // join the spread there.
-  if (!receiver.isCluster && !source.isCluster) {
-    const GElement &to = elements_[r.index], &from = elements_[s.index];
-    const Box3 a = to.shape.bounds(), b = from.shape.bounds();
-    Vec3 gap;
-    for (int k = 0; k < 3; ++k) gap[k] = std::max({0.0, a.min[k] - b.max[k], b.min[k] - a.max[k]});
-    if (length(gap) < kNearShare * std::max(a.diagonalLength(), b.diagonalLength())) {
-      const Vec3 centre = to.shape.centroid();
-      const auto sampleAt = [&](const Vec3& x) {
-        const double form = pointToElementFormFactor(x, to.shape.normal, from.shape);
-        lowestForm = std::min(lowestForm, form);
-        highestForm = std::max(highestForm, form);
-      };
-      for (int k = 0; k < to.shape.vertexCount; ++k)
-        sampleAt(to.shape.vertices[k] + (centre - to.shape.vertices[k]) * 0.25);
-      // And right in front of a source much smaller than the receiver (a sofa's back in front
-      // of a wall): the source's centre seen straight across, when that falls on the receiver.
-      const Vec3 across = from.shape.centroid() -
-                          to.shape.normal * dot(from.shape.centroid() - centre, to.shape.normal);
-      if (to.shape.insideness(across) > 0) sampleAt(across);
-      e.spread = std::max(e.spread, highestForm - lowestForm);
-    }
-  }
+  if (e.ends.near) e.spread = std::max(e.spread, e.ends.nearSpread);
   // Over a partly covered end the transfer runs from nothing (under the cover) to what the
   // covered points would receive in the open: the spread a linear function cannot follow, so that
   // refinement splits along the contact's outline even where no cubature point is in the open.
-  e.spread = std::max(e.spread, coveredHighest);
+  e.spread = std::max(e.spread, e.ends.coveredHighest);
   e.hiddenTransfer = hiddenTransfer;
   // A cluster end's coefficient in its own units: per unit of the exitance a source cluster's
   // lobes send (B A, so without its area and cosine), as the flux density arriving at a receiver

@@ -50,6 +50,8 @@ void GalerkinRadiosity::clear() {
   droppedPairs_ = 0;
   shaftHolders_.clear();
   lastMovedAfter_.clear();
+  lastEnds_.clear();
+  lastEndsOf_.clear();
   lastMovedIds_.clear();
   stats_ = {};
   invalidateSolveState();

@@ -348,6 +348,7 @@ class GalerkinRadiosity {
   }
 
  private:
+  struct EndTerms;
   struct Estimate;
   struct Counters;
   void clear();
@@ -450,6 +451,10 @@ class GalerkinRadiosity {
   // move moved: when the next update moves the same ones, a pair's part before its move is that
   // (the same filtering, from the root down, of the same boxes by the same shafts).
   std::unordered_map<int, MovedPart> lastMovedAfter_;
+  // The end terms of each pair the last update's walk estimated: a pair met again with the same
+  // ends reads them instead of computing its kernel and exact form factors again.
+  std::vector<EndTerms> lastEnds_;
+  std::unordered_map<int, int> lastEndsOf_;  // pair -> its place in lastEnds_
   std::vector<PolygonId> lastMovedIds_;
   MovedPart movedPart(const Move& move, NodeRef r, NodeRef s, const MovedPart& parentPart,
                       bool before) const;

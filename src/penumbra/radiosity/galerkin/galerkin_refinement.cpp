@@ -224,7 +224,9 @@ void GalerkinRadiosity::compactPairs() {
   links_ = std::move(compact);
   droppedPairs_ = 0;
   lastMovedAfter_.clear();  // it names pairs by their places
-  shaftHolders_.clear();    // renumbered: the pairs holding lists named again
+  lastEnds_.clear();
+  lastEndsOf_.clear();
+  shaftHolders_.clear();  // renumbered: the pairs holding lists named again
   if (managed())
     for (size_t i = 1; i < links_.size(); ++i)
       if (links_[i].candidates) shaftHolders_.push_back(int(i));

@@ -228,6 +228,8 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       const GLink& link = links_[size_t(pair)];
       if (!link.active()) continue;
       std::vector<SolveState::Carried>& list = state.fromSource(link.source);
+      // Grown by an eighth, not doubled: the lists are kept, and an update adds a few.
+      if (list.size() == list.capacity()) list.reserve(list.size() + list.size() / 8 + 2);
       list.push_back(carriedOf(pair));
       carryLink(state, elements_, clusters_, list.back(), 1);
       state.carried[size_t(pair)] = 1;

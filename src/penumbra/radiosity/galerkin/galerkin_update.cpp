@@ -322,6 +322,8 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
   const size_t movedObjects = move.boxes.size() / 2;
   const bool sameMoved = move.movedIds == lastMovedIds_;
   std::unordered_map<int, MovedPart> movedAfter;
+  std::vector<EndTerms> ends;
+  std::unordered_map<int, int> endsOf;
   Stopwatch walk;
   while (!wave.empty()) {
     walk.lap();
@@ -423,7 +425,10 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
                                move, link.receiver, link.source,
                                met[m].inheritedBefore ? *met[m].inheritedBefore : *inherited));
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
-      const VisibilityReuse reuse{link.hiddenPairs, link.everyRay, &move.boxes};
+      const auto last = lastEndsOf_.find(met[m].pair);
+      const VisibilityReuse reuse{
+          link.hiddenPairs, link.everyRay, &move.boxes,
+          last != lastEndsOf_.end() ? &lastEnds_[size_t(last->second)] : nullptr};
       out.estimate = estimate(link.receiver, link.source, CandidateView{out.count, out.own.get()},
                               out.counters, kept(m) && estimated ? &reuse : nullptr);
     });
@@ -432,6 +437,10 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       const int i = met[m].pair;
       Outcome& out = outcomes[m];
       if (out.movedAfter) movedAfter[i] = out.movedAfter;
+      if (out.exchanges && !(links_[i].receiver == links_[i].source)) {
+        endsOf[i] = int(ends.size());
+        ends.push_back(out.estimate.ends);
+      }
       counters.pointPairs += out.counters.pointPairs;
       counters.visibilityRays += out.counters.visibilityRays;
       counters.unoccludedLinks += out.counters.unoccludedLinks;
@@ -523,6 +532,8 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
   }
   lastMovedAfter_ = std::move(movedAfter);
   lastMovedIds_ = move.movedIds;
+  lastEnds_ = std::move(ends);
+  lastEndsOf_ = std::move(endsOf);
 }
 
 void GalerkinRadiosity::recordPasses(const Settling& settling, int passesBefore) {
