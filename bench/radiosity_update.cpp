@@ -29,6 +29,7 @@ using bench::median;
 
 struct StepFigures {
   std::vector<double> update, repose, traverse, walk, refine, solve, full;
+  std::vector<bool> compacted;  // the update compacted the pairs (then the next has nothing kept)
   long long met = 0, endMoved = 0, reestimated = 0, rays = 0, reused = 0, links = 0;
 };
 
@@ -71,6 +72,7 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
     StepFigures& s = steps[{from, to}];
     const GalerkinUpdateStats& u = solver.lastUpdate();
     s.update.push_back(seconds);
+    s.compacted.push_back(u.compacted);
     s.repose.push_back(u.reposeSeconds);
     s.traverse.push_back(u.traverseSeconds);
     s.walk.push_back(u.walkSeconds);
@@ -110,6 +112,19 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
         key.first, key.second, 1e3 * update, 1e3 * median(s.repose), 1e3 * median(s.traverse),
         1e3 * median(s.walk), 1e3 * median(s.refine), 1e3 * median(s.solve), 1e3 * full,
         full / update, s.met, s.endMoved, s.rays, s.reused, s.links);
+  }
+  // Each step's updates in the order they ran (the first of 0->1 follows the build: no list
+  // kept but the root's, nothing kept from a last move; "c": the update compacted the pairs,
+  // which renumbers them and drops what the solve and the walk kept), to tell a slow step from
+  // a slow moment.
+  if (repeat > 1) {
+    std::printf("  each update in order of the runs (ms; c: compacted):\n");
+    for (const auto& [key, s] : steps) {
+      std::printf("  %2d->%-3d", key.first, key.second);
+      for (size_t k = 0; k < s.update.size(); ++k)
+        std::printf(" %6.1f%s", 1e3 * s.update[k], s.compacted[k] ? "c" : " ");
+      std::printf("\n");
+    }
   }
   std::printf(
       "  median over steps: update %.1f ms (traversal %.1f ms, of it the walk %.2f ms), full "
