@@ -70,33 +70,39 @@ void carryChange(State& state, const Link& link, const LinearRgb& from, const Ax
   }
 }
 
-// Adds (sign 1) or takes back (-1) what a carried link brings to its receiver's sums: the direct
-// part from its source's emission as the state last saw it, the indirect from what the source
-// last sent.
+// Adds (sign 1) or takes back (-1) the direct part a carried link brings to its receiver: from
+// its source's emission as the state last saw it.
+template <class State, class Link, class Elements, class Clusters>
+void carryDirect(State& state, Elements& elements, Clusters& clusters, const Link& link,
+                 double sign) {
+  LinearRgb emitted{};
+  emitted[0] = (link.source.isCluster()
+                    ? exitanceToward(state.clusterEmitted[link.source.index], link.direction * -1.0)
+                    : state.emission[link.source.index]) *
+               sign;
+  const LinearRgb direct = arrivingOver(link, emitted);
+  if (link.receiver.isCluster()) {
+    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
+  } else {
+    LinearRgb& d = elements[link.receiver.index].node.gatheredDirect;
+    for (int beta = 0; beta < 3; ++beta) d[beta] += direct[beta];
+  }
+}
+
+// Adds (sign 1) or takes back (-1) all a carried link brings to its receiver's sums: the direct
+// part, and the indirect from what its source last sent.
 template <class State, class Link, class Elements, class Clusters>
 void carryLink(State& state, Elements& elements, Clusters& clusters, const Link& link,
                double sign) {
-  const Vec3 toward = link.direction * -1.0;
-  LinearRgb emitted{}, reflected{};
+  carryDirect(state, elements, clusters, link, sign);
   if (link.source.isCluster()) {
-    emitted[0] = exitanceToward(state.clusterEmitted[link.source.index], toward) * sign;
-    reflected[0] = exitanceToward(state.clusterSent[link.source.index], toward) * sign;
+    AxisLobes lobes = state.clusterSent[link.source.index];
+    for (Rgb& lobe : lobes) lobe = lobe * sign;
+    carryChange(state, link, {}, lobes);
   } else {
-    emitted[0] = state.emission[link.source.index] * sign;
-    for (int alpha = 0; alpha < 3; ++alpha)
-      reflected[alpha] = state.sent[link.source.index][alpha] * sign;
-  }
-  const LinearRgb direct = arrivingOver(link, emitted), indirect = arrivingOver(link, reflected);
-  if (link.receiver.isCluster()) {
-    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
-    addArriving(state.clusterGathered[link.receiver.index], indirect[0], link.direction);
-  } else {
-    LinearRgb& d = elements[link.receiver.index].node.gatheredDirect;
-    LinearRgb& i = state.gathered[link.receiver.index];
-    for (int beta = 0; beta < 3; ++beta) {
-      d[beta] += direct[beta];
-      i[beta] += indirect[beta];
-    }
+    LinearRgb from = state.sent[link.source.index];
+    for (Rgb& c : from) c = c * sign;
+    carryChange(state, link, from, {});
   }
 }
 
@@ -259,30 +265,14 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
     for (size_t e = 0; e < elementCount; ++e) state.emission[e] = elements_[e].node.emission;
     state.clusterEmitted.resize(clusterCount);
     for (size_t c = 0; c < clusterCount; ++c) state.clusterEmitted[c] = clusters_[c].emittedLobes;
-    // The direct part once (emission does not change between iterations).
+    // The direct part once (emission does not change between iterations); the indirect sums
+    // are made by the first iteration (gatherAll).
     for (GElement& e : elements_) e.node.gatheredDirect = {};
     for (GCluster& c : clusters_) c.gatheredDirectLobes = {};
-    for (size_t e = 0; e < elementCount; ++e) gathered[e] = {};
-    for (size_t c = 0; c < clusterCount; ++c) clusterGathered[c] = {};
     for (const auto* lists : {&state.fromElement, &state.fromCluster})
       for (const auto& list : *lists)
-        for (const SolveState::Carried& link : list) {
-          // Direct only: the indirect sums are made by the first iteration.
-          const LinearRgb emitted{
-              link.source.isCluster()
-                  ? exitanceToward(clusters_[link.source.index].emittedLobes, link.direction * -1.0)
-                  : elements_[link.source.index].node.emission,
-              {},
-              {}};
-          const LinearRgb direct = arrivingOver(link, emitted);
-          if (link.receiver.isCluster()) {
-            addArriving(clusters_[link.receiver.index].gatheredDirectLobes, direct[0],
-                        link.direction);
-          } else {
-            LinearRgb& d = elements_[link.receiver.index].node.gatheredDirect;
-            for (int beta = 0; beta < 3; ++beta) d[beta] += direct[beta];
-          }
-        }
+        for (const SolveState::Carried& link : list)
+          carryDirect(state, elements_, clusters_, link, 1);
     state.valid = true;
   }
   for (int pair : changedPairs_) pairChanged_[size_t(pair)] = 0;
