@@ -110,6 +110,15 @@ int ElementShape::childContaining(const Vec3& p) const {
   return nearV0V1 ? (nearV0V3 ? 0 : 1) : (nearV0V3 ? 3 : 2);
 }
 
+int ElementShape::grandchildContaining(const Vec3& p) const {
+  const int c = childContaining(p);
+  ElementShape child;
+  child.vertices = childVertices()[c];
+  child.vertexCount = vertexCount;
+  child.normal = normal;
+  return 4 * c + child.childContaining(p);
+}
+
 double ElementShape::insideness(const Vec3& p) const {
   double smallest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < vertexCount; ++i) {

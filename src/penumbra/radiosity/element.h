@@ -57,6 +57,8 @@ struct ElementShape {
   // sign tests against the lines between edge midpoints, which split the element into exactly
   // those children (a point on such a line goes to either side).
   int childContaining(const Vec3& p) const;
+  // Which of the sixteen cells (grandchildCells order) holds p, a point of the element's plane.
+  int grandchildContaining(const Vec3& p) const;
 };
 
 struct Element : ElementShape {

@@ -39,8 +39,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "penumbra/base/parallel_for.h"
@@ -53,6 +55,10 @@ namespace penumbra {
 
 struct RadiositySolver::GatherEntry {
   int element = 0;
+  // A ray's entry: the cell of the leaf it met (grandchildContaining), whose own radiosity it
+  // takes (cellReflected_); -1: the element's mean (exact sources, and the rays' fallback).
+  std::int8_t cell = -1;
+  std::int8_t at = -1;  // the receiving leaf's cell that gathered it
   double weight = 0;
 };
 
@@ -66,6 +72,10 @@ struct RadiositySolver::LeafGather {
   // With RadiosityOptions::exactDirect: the direct irradiance, the mean of that function over the
   // exposed points (nothing when it answered nothing at one of them).
   std::optional<Rgb> exactDirect;
+  // Each cell's direct irradiance (the exact function at its point, or what its entries bring
+  // from emission), and which cells are covered by a polygon in contact.
+  std::array<Rgb, 16> cellDirect{};
+  std::uint16_t coveredCells = 0;
   // Gathers at a point (gatheredIndirect) with an exact direct part: rays that meet a leaf
   // closer than its size are kept apart, where they met it (continued there: reflectedAlong).
   bool keepNearHits = false;
@@ -184,11 +194,13 @@ void RadiositySolver::finalGather() {
       Rgb sum;
       int count = 0;
       bool answered = true;
-      for (const Vec3& x : gatherPoints(leaf)) {
-        if (isCovered(leaf.polygon, x)) continue;
-        const std::optional<Rgb> e = options_.exactDirect(x, leaf.normal, leaf.polygon);
-        answered = answered && e.has_value();
+      const std::array<Vec3, 16> points = gatherPoints(leaf);
+      for (int k = 0; k < 16 && answered; ++k) {
+        if (isCovered(leaf.polygon, points[k])) continue;
+        const std::optional<Rgb> e = options_.exactDirect(points[k], leaf.normal, leaf.polygon);
+        answered = e.has_value();
         if (!answered) break;
+        gathered[id].cellDirect[k] = *e;
         sum += *e;
         ++count;
       }
@@ -222,10 +234,12 @@ void RadiositySolver::finalGather() {
       if (isCovered(leaf.polygon, x)) {
         // x sees only the polygon covering it.
         ++leafGather.coveredPoints;
+        leafGather.coveredCells |= std::uint16_t(1u << k);
         if (const int h = coveringLeaf(leaf.polygon, x); h >= 0)
-          leafGather.covered.push_back({h, 1});
+          leafGather.covered.push_back({.element = h, .weight = 1});
         continue;
       }
+      const size_t cellBegin = entries.size();
       double exactSum = 0;
       for (size_t j = 0; j < exactLinks.size(); ++j) {
         const Link& link = links_[exactLinks[j]];
@@ -245,21 +259,29 @@ void RadiositySolver::finalGather() {
                                         leafGather.clippedPoints) /
                         f
                   : (occluders[j].empty() ? mean : 0.0);
-        if (visible > 0) entries.push_back({link.source.index, visible});
+        if (visible > 0) entries.push_back({.element = link.source.index, .weight = visible});
         exactSum += visible;
       }
       const double remainder = 1 - exactSum;
       if (!rayElements.empty() && remainder > 0)
         splitRemainder(leaf, cells[k], x, remainder, rayElements, exactSources,
                        options_.finalGatherRays, rng, leafGather);
+      Rgb direct;
+      for (size_t i = cellBegin; i < entries.size(); ++i) {
+        entries[i].at = std::int8_t(k);
+        direct += elements_[entries[i].element].radiometry.emission * entries[i].weight;
+      }
+      if (!leafGather.exactDirect) leafGather.cellDirect[size_t(k)] = direct;
     }
-    // One entry per element, weights per point of its kind (the mean over those points).
+    // One entry per receiving cell and source (element, or cell of a leaf), weights per point of
+    // its kind (their sum over a leaf's list is the mean over those points).
     const auto merge = [](std::vector<GatherEntry>& list, int points) {
+      const auto key = [](const GatherEntry& g) { return std::tuple(g.at, g.element, g.cell); };
       std::sort(list.begin(), list.end(),
-                [](const GatherEntry& a, const GatherEntry& b) { return a.element < b.element; });
+                [&](const GatherEntry& a, const GatherEntry& b) { return key(a) < key(b); });
       size_t merged = 0;
       for (size_t i = 0; i < list.size(); ++i) {
-        if (merged > 0 && list[merged - 1].element == list[i].element)
+        if (merged > 0 && key(list[merged - 1]) == key(list[i]))
           list[merged - 1].weight += list[i].weight;
         else
           list[merged++] = list[i];
@@ -294,7 +316,8 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
   constexpr int kRounds = 8;
   constexpr double kSeam = 10;
   const int rays = std::max(0, rayCount);
-  std::vector<int> met;
+  // What each ray met: a leaf and its cell, or nothing (leaf -1).
+  std::vector<std::pair<int, int>> met;
   const size_t nearBefore = gather.near.size();
   if (rays > 0 && remainder > kNoRays) {
     // side² strata, the rays beyond them unstratified: strata left empty would leave a range
@@ -331,7 +354,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
                                           std::numeric_limits<double>::infinity(), leaf.polygon);
         if (!hit) {
           ++gather.misses;
-          met.push_back(-1);
+          met.push_back({-1, 0});
           continue;
         }
         const bool front = dot(scene_.polygons[hit->polygon].plane.normal, d) < 0;
@@ -347,7 +370,7 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         }
         if (!front) {
           ++gather.misses;
-          met.push_back(-1);
+          met.push_back({-1, 0});
           continue;
         }
         // The front of an exact source is already counted; its back is not (it sends nothing,
@@ -359,13 +382,14 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         // A ray met near counts here like the others, and sends through gather.near.
         const bool near = gather.keepNearHits && h >= 0 && isNearHit(h, hit->t);
         if (near) gather.near.push_back({h, hit->point, hit->polygon, 0});
-        met.push_back(near ? -1 : h);
+        met.push_back(near || h < 0 ? std::pair{-1, 0}
+                                    : std::pair{h, elements_[h].grandchildContaining(hit->point)});
       }
   }
   if (!met.empty()) {
     const double weight = remainder / double(met.size());
-    for (int h : met)
-      if (h >= 0) entries.push_back({h, weight});
+    for (const auto& [h, cell] : met)
+      if (h >= 0) entries.push_back({.element = h, .cell = std::int8_t(cell), .weight = weight});
     for (size_t k = nearBefore; k < gather.near.size(); ++k) gather.near[k].weight = weight;
     return;
   }
@@ -375,7 +399,8 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
     total += formFactors[k] = pointFormFactor(x, leaf.normal, elements_[rayElements[k]]);
   if (!(total > 0)) return;
   for (size_t k = 0; k < rayElements.size(); ++k)
-    if (formFactors[k] > 0) entries.push_back({rayElements[k], remainder * formFactors[k] / total});
+    if (formFactors[k] > 0)
+      entries.push_back({.element = rayElements[k], .weight = remainder * formFactors[k] / total});
 }
 
 // Jacobi iteration over the leaves' point transfers, from the hierarchical solution. A leaf
@@ -389,15 +414,17 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
 // sweep pulls them up).
 void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
   const size_t count = elements_.size();
-  std::vector<Rgb> exposedReflected(count), coveredReflected(count);
-  for (size_t id = 0; id < count; ++id)
+  std::vector<Rgb> exposedReflected(count), coveredReflected(count), cellReflected(count * 16);
+  for (size_t id = 0; id < count; ++id) {
     exposedReflected[id] = coveredReflected[id] = elements_[id].radiometry.reflected;
+    std::fill_n(cellReflected.begin() + std::ptrdiff_t(id * 16), 16, exposedReflected[id]);
+  }
   const auto sum = [&](const std::vector<GatherEntry>& list, const auto& value) {
     Rgb total;
-    for (const GatherEntry& g : list) total += value(g.element) * g.weight;
+    for (const GatherEntry& g : list) total += value(g) * g.weight;
     return total;
   };
-  const auto emission = [&](int e) { return elements_[e].radiometry.emission; };
+  const auto emission = [&](const GatherEntry& g) { return elements_[g.element].radiometry.emission; };
   std::vector<Rgb> exposedDirect(count), coveredDirect(count);
   for (size_t id = 0; id < count; ++id)
     if (elements_[id].isLeaf()) {
@@ -405,13 +432,28 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
       exposedDirect[id] = g.exactDirect ? *g.exactDirect : sum(g.exposed, emission);
       coveredDirect[id] = sum(gathered[id].covered, emission);
     }
-  std::vector<Rgb> exposedIndirect(count), coveredIndirect(count);
+  std::vector<Rgb> exposedIndirect(count), coveredIndirect(count), cellIndirect(count * 16);
   double scale = 1e-300;
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     for (size_t id = 0; id < count; ++id)
       if (elements_[id].isLeaf()) {
-        exposedIndirect[id] = sum(gathered[id].exposed, [&](int e) { return exposedReflected[e]; });
-        coveredIndirect[id] = sum(gathered[id].covered, [&](int e) { return coveredReflected[e]; });
+        // Each exposed cell's own indirect irradiance, and their mean.
+        std::array<Rgb, 16> cells{};
+        for (const GatherEntry& g : gathered[id].exposed)
+          cells[size_t(g.at)] +=
+              (g.cell >= 0 ? cellReflected[size_t(g.element) * 16 + size_t(g.cell)]
+                           : exposedReflected[size_t(g.element)]) *
+              g.weight;
+        Rgb mean;
+        for (int k = 0; k < 16; ++k) {
+          mean += cells[size_t(k)];
+          cellIndirect[id * 16 + size_t(k)] =
+              cells[size_t(k)] * double(16 - gathered[id].coveredPoints);
+        }
+        exposedIndirect[id] = mean;
+        coveredIndirect[id] = sum(gathered[id].covered, [&](const GatherEntry& g) {
+          return coveredReflected[size_t(g.element)];
+        });
       }
     double largestChange = 0;
     for (size_t id = 0; id < count; ++id) {
@@ -433,6 +475,13 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
       // A kind with no points takes the other's (a leaf wholly covered is seen by no one else).
       exposedReflected[id] = covered < 1 ? exposed : hidden;
       coveredReflected[id] = covered > 0 ? hidden : exposed;
+      // What a ray meeting one of the leaf's cells takes (cellReflected_).
+      const LeafGather& g = gathered[id];
+      for (size_t k = 0; k < 16; ++k)
+        cellReflected[id * 16 + k] =
+            (g.coveredCells >> k & 1)
+                ? hidden
+                : e.reflectance * (g.cellDirect[k] + cellIndirect[id * 16 + k]);
     }
     for (size_t i = count; i-- > 0;) {
       Element& e = elements_[i];
@@ -454,6 +503,7 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
   }
   exposedReflected_ = std::move(exposedReflected);
   coveredReflected_ = std::move(coveredReflected);
+  cellReflected_ = std::move(cellReflected);
 }
 
 // The final gather at one point instead of a leaf's 16 cells, for the reflected light only (what
@@ -496,14 +546,14 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
           continue;
         }
         const double fe = pointFormFactor(point, leaf.normal, e);
-        if (fe > 0) gather.exposed.push_back({at, fe});
+        if (fe > 0) gather.exposed.push_back({.element = at, .weight = fe});
         exactSum += fe;
       }
       continue;
     }
     const double visible = visibleTransfer(point, leaf.normal, leaf.polygon, source,
                                            sources.occluders[j], f, gather.clippedPoints);
-    if (visible > 0) gather.exposed.push_back({link.source.index, visible});
+    if (visible > 0) gather.exposed.push_back({.element = link.source.index, .weight = visible});
     exactSum += visible;
   }
   const double remainder = 1 - exactSum;
@@ -518,8 +568,13 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
     for (const LeafGather::NearHit& near : gather.near)
       indirect += reflectedAlong(near.leaf, near.point, near.polygon, rng, 0) * near.weight;
   }
-  for (const GatherEntry& e : gather.exposed) indirect += exposedReflected_[e.element] * e.weight;
+  for (const GatherEntry& e : gather.exposed) indirect += reflectedAt(e.element, e.cell) * e.weight;
   return indirect;
+}
+
+Rgb RadiositySolver::reflectedAt(int element, int cell) const {
+  return cell >= 0 ? cellReflected_[size_t(element) * 16 + size_t(cell)]
+                   : exposedReflected_[size_t(element)];
 }
 
 bool RadiositySolver::isNearHit(int leaf, double distance) const {
@@ -552,8 +607,9 @@ Rgb RadiositySolver::reflectedAlong(int leaf, const Vec3& point, PolygonId polyg
   if (hit && dot(scene_.polygons[hit->polygon].plane.normal, d) < 0) {
     const int h = leafAt(hit->polygon, hit->point);
     if (h >= 0)
-      indirect = isNearHit(h, hit->t) ? reflectedAlong(h, hit->point, hit->polygon, rng, depth + 1)
-                                      : exposedReflected_[size_t(h)];
+      indirect = isNearHit(h, hit->t)
+                     ? reflectedAlong(h, hit->point, hit->polygon, rng, depth + 1)
+                     : reflectedAt(h, elements_[size_t(h)].grandchildContaining(hit->point));
   }
   return e.reflectance * (*direct + indirect);
 }

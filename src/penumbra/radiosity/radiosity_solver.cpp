@@ -55,6 +55,7 @@ void RadiositySolver::clear() {
   gatherIndex_ = {};
   exposedReflected_.clear();
   coveredReflected_.clear();
+  cellReflected_.clear();
   mesh_ = {};
   stats_ = {};
 }
