@@ -8,13 +8,13 @@
 // Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
 //                              [--no-final-gather] [--combined] [--path-tracer]
 //                              [--visibility-rays N]
-//                              [--galerkin [--repeat N] [--hidden-weight W] [--worst N]]
-//                              [--gather-rays N]
+//                              [--galerkin [--repeat N] [--hidden-weight W]]
+//                              [--gather-rays N] [--worst N]
 //                              [scene.json ...]
 // --galerkin: the Galerkin core (radiosity/galerkin/) instead of the hierarchical solver with its
 // final gather; --repeat N solves each tolerance N times and reports the fastest; --hidden-weight
 // sets how many times a link's partly hidden transfer counts in its oracle; --worst N lists the N
-// points with the largest errors under each row.
+// points with the largest errors under each row (either solver).
 // --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
 // with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the
@@ -68,7 +68,7 @@ struct Options {
   double hiddenWeight = -1;  // Galerkin: GalerkinOptions::hiddenWeight (negative: its default)
   int visibilityRays = 0;    // 0: the solver's default
   int gatherRays = 0;
-  int worst = 0;  // Galerkin: the points with the largest errors, listed under each row
+  int worst = 0;  // the points with the largest errors, listed under each row
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
   std::vector<std::string> scenes;
 };
@@ -177,6 +177,28 @@ struct PointErrors {
   }
 };
 
+// The points where a solution is furthest from the reference: position, receiver, both values.
+void printWorst(const std::vector<OpenPoint>& points,
+                const std::vector<std::optional<RadiositySample>>& samples, int worst) {
+  std::vector<size_t> order(points.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto error = [&](size_t i) {
+    const double value = samples[i] ? samples[i]->total().average() : 0;
+    return std::abs(value - points[i].reference) / points[i].reference;
+  };
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return error(a) > error(b); });
+  for (size_t k = 0; k < std::min(order.size(), size_t(std::max(0, worst))); ++k) {
+    const OpenPoint& p = points[order[k]];
+    std::printf(
+        "#   %+7.1f%% at (%.4f %.4f %.4f) normal (%.2f %.2f %.2f), polygon %d: %.4g against "
+        "%.4g (direct %.4g)\n",
+        100 * (samples[order[k]] ? samples[order[k]]->total().average() / p.reference - 1 : -1),
+        p.point.p.x, p.point.p.y, p.point.p.z, p.point.n.x, p.point.n.y, p.point.n.z,
+        int(p.point.receiver), samples[order[k]] ? samples[order[k]]->total().average() : 0,
+        p.reference, p.direct);
+  }
+}
+
 void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points, double tolerance,
                  const Options& o) {
   GalerkinOptions options;
@@ -213,24 +235,7 @@ void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points,
       "%lld rays, %lld unoccluded links, %d iterations\n",
       100 * percentile(errors.signedIndirect, 0.5), absorbed.average() / emitted.average(),
       s.pointPairs, s.visibilityRays, s.unoccludedLinks, s.iterations);
-  // Where the solution is furthest from the reference: position, receiver, both values.
-  std::vector<size_t> order(points.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  const auto error = [&](size_t i) {
-    const double value = samples[i] ? samples[i]->total().average() : 0;
-    return std::abs(value - points[i].reference) / points[i].reference;
-  };
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return error(a) > error(b); });
-  for (size_t k = 0; k < std::min(order.size(), size_t(std::max(0, o.worst))); ++k) {
-    const OpenPoint& p = points[order[k]];
-    std::printf(
-        "#   %+7.1f%% at (%.4f %.4f %.4f) normal (%.2f %.2f %.2f), polygon %d: %.4g against "
-        "%.4g (direct %.4g)\n",
-        100 * (samples[order[k]] ? samples[order[k]]->total().average() / p.reference - 1 : -1),
-        p.point.p.x, p.point.p.y, p.point.p.z, p.point.n.x, p.point.n.y, p.point.n.z,
-        int(p.point.receiver), samples[order[k]] ? samples[order[k]]->total().average() : 0,
-        p.reference, p.direct);
-  }
+  printWorst(points, samples, o.worst);
   std::fflush(stdout);
 }
 
@@ -294,8 +299,18 @@ void run(const std::string& path, const Options& o) {
         100 * percentile(errors.total, 0.5), 100 * percentile(errors.total, 0.95),
         100 * percentile(errors.direct, 0.5), 100 * percentile(errors.indirect, 0.5),
         s.refineSeconds, s.solveSeconds, s.finalGatherSeconds, queryMicroseconds);
-    std::printf("# median signed indirect error %.2f%% of the total\n",
-                100 * percentile(errors.signedIndirect, 0.5));
+    // Issue 19's measure of a bias: the indirect part summed over the points, against the
+    // reference's (its total less the exact direct part).
+    double indirectSum = 0, referenceIndirectSum = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      indirectSum += samples[i] ? samples[i]->indirect.average() : 0;
+      referenceIndirectSum += points[i].reference - points[i].direct;
+    }
+    std::printf(
+        "# median signed indirect error %.2f%% of the total; indirect summed over the points "
+        "%.4f of the reference's\n",
+        100 * percentile(errors.signedIndirect, 0.5), indirectSum / referenceIndirectSum);
+    printWorst(points, samples, o.worst);
     std::fflush(stdout);
   }
 }
