@@ -191,11 +191,11 @@ void printWorst(const std::vector<OpenPoint>& points,
     const OpenPoint& p = points[order[k]];
     std::printf(
         "#   %+7.1f%% at (%.4f %.4f %.4f) normal (%.2f %.2f %.2f), polygon %d: %.4g against "
-        "%.4g (direct %.4g)\n",
+        "%.4g +- %.2g%% (direct %.4g)\n",
         100 * (samples[order[k]] ? samples[order[k]]->total().average() / p.reference - 1 : -1),
         p.point.p.x, p.point.p.y, p.point.p.z, p.point.n.x, p.point.n.y, p.point.n.z,
         int(p.point.receiver), samples[order[k]] ? samples[order[k]]->total().average() : 0,
-        p.reference, p.direct);
+        p.reference, 100 * p.standardError / p.reference, p.direct);
   }
 }
 

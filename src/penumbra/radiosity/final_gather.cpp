@@ -424,7 +424,9 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
     for (const GatherEntry& g : list) total += value(g) * g.weight;
     return total;
   };
-  const auto emission = [&](const GatherEntry& g) { return elements_[g.element].radiometry.emission; };
+  const auto emission = [&](const GatherEntry& g) {
+    return elements_[g.element].radiometry.emission;
+  };
   std::vector<Rgb> exposedDirect(count), coveredDirect(count);
   for (size_t id = 0; id < count; ++id)
     if (elements_[id].isLeaf()) {
