@@ -48,6 +48,7 @@
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/base/split_mix.h"
 #include "penumbra/geometry/cosine_direction.h"
+#include "penumbra/radiosity/point_form_factor.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/spatial/ray_caster.h"
 
@@ -547,9 +548,17 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
           for (int k = 0; k < 4; ++k) stack.push_back(e.firstChild + k);
           continue;
         }
-        const double fe = pointFormFactor(point, leaf.normal, e);
-        if (fe > 0) gather.exposed.push_back({.element = at, .weight = fe});
-        exactSum += fe;
+        // ... and each leaf's cells, each with its own radiosity (the strip of a wall along the
+        // ceiling is darker than its leaf: the corner hides the room from it).
+        const std::array<std::array<Vec3, 4>, 16> cells = e.grandchildCells();
+        for (int k = 0; k < 16; ++k) {
+          ElementShape cell = e;
+          cell.vertices = cells[size_t(k)];
+          const double fe = pointToElementFormFactor(point, leaf.normal, cell);
+          if (fe > 0)
+            gather.exposed.push_back({.element = at, .cell = std::int8_t(k), .weight = fe});
+          exactSum += fe;
+        }
       }
       continue;
     }
