@@ -48,7 +48,6 @@
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/base/split_mix.h"
 #include "penumbra/geometry/cosine_direction.h"
-#include "penumbra/radiosity/point_form_factor.h"
 #include "penumbra/radiosity/radiosity_solver.h"
 #include "penumbra/spatial/ray_caster.h"
 
@@ -509,6 +508,32 @@ void RadiositySolver::solveLeaves(const std::vector<LeafGather>& gathered) {
   cellReflected_ = std::move(cellReflected);
 }
 
+// A wholly visible source closer to the point than its own size (the wall 1.5 cm beside a point
+// of the ceiling fills half its hemisphere) moved from the exact sources to the rays: the strip of
+// it next to the point, which sends the point most, is darker than the cells it lies in (the
+// corner hides the room from it), and a ray that meets a leaf that close takes what the point it
+// met reflects (reflectedAlong). Gathered by its form factor with its leaves' means, such
+// points of the furnished room's ceiling read 4-7% too much, and a point of the Cornell box's
+// back wall 1.4 mm below its ceiling 24% (bench/radiosity_error_curve --combined --worst).
+RadiositySolver::LeafSources RadiositySolver::nearSourcesByRays(const Vec3& point,
+                                                                LeafSources sources) const {
+  LeafSources kept;
+  kept.rayElements = std::move(sources.rayElements);
+  for (size_t j = 0; j < sources.exactLinks.size(); ++j) {
+    const int source = links_[sources.exactLinks[j]].source.index;
+    const Box3 bounds = elements_[source].bounds();
+    if (sources.occluders[j].empty() && distance(point, bounds) < bounds.diagonalLength()) {
+      kept.rayElements.push_back(source);
+      continue;
+    }
+    kept.exactLinks.push_back(sources.exactLinks[j]);
+    kept.occluders.push_back(std::move(sources.occluders[j]));
+    kept.exactSources.push_back(source);
+  }
+  std::sort(kept.exactSources.begin(), kept.exactSources.end());
+  return kept;
+}
+
 // The final gather at one point instead of a leaf's 16 cells, for the reflected light only (what
 // the leaves send beyond their emission): the same sources, each exact one's point form factor
 // and exact visibility at the point, the rest by rays from the point.
@@ -524,7 +549,7 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
     const int h = coveringLeaf(leaf.polygon, point);
     return h >= 0 ? coveredReflected_[h] : Rgb{};
   }
-  const LeafSources sources = leafSources(id);
+  const LeafSources sources = nearSourcesByRays(point, leafSources(id));
   const std::vector<PolygonId>& partners = contacts_[leaf.polygon];
   LeafGather gather;
   double exactSum = 0;
@@ -534,34 +559,6 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
     if (std::find(partners.begin(), partners.end(), source.polygon) != partners.end()) continue;
     const double f = unoccludedPointTransfer(link, point, leaf.normal, false);
     if (!(f > 0)) continue;
-    if (sources.occluders[j].empty() && !source.isLeaf() &&
-        distance(point, source.bounds()) < source.bounds().diagonalLength()) {
-      // A wholly visible source close to the point (the ceiling 2 mm above a point of the back
-      // wall fills half its hemisphere): its leaves, each with its own radiosity, instead of the
-      // source's mean, which is not what the strip next to the point sends.
-      std::vector<int> stack{link.source.index};
-      while (!stack.empty()) {
-        const Element& e = elements_[stack.back()];
-        const int at = stack.back();
-        stack.pop_back();
-        if (!e.isLeaf()) {
-          for (int k = 0; k < 4; ++k) stack.push_back(e.firstChild + k);
-          continue;
-        }
-        // ... and each leaf's cells, each with its own radiosity (the strip of a wall along the
-        // ceiling is darker than its leaf: the corner hides the room from it).
-        const std::array<std::array<Vec3, 4>, 16> cells = e.grandchildCells();
-        for (int k = 0; k < 16; ++k) {
-          ElementShape cell = e;
-          cell.vertices = cells[size_t(k)];
-          const double fe = pointToElementFormFactor(point, leaf.normal, cell);
-          if (fe > 0)
-            gather.exposed.push_back({.element = at, .cell = std::int8_t(k), .weight = fe});
-          exactSum += fe;
-        }
-      }
-      continue;
-    }
     const double visible = visibleTransfer(point, leaf.normal, leaf.polygon, source,
                                            sources.occluders[j], f, gather.clippedPoints);
     if (visible > 0) gather.exposed.push_back({.element = link.source.index, .weight = visible});

@@ -329,6 +329,8 @@ class RadiositySolver {
     std::vector<int> rayElements;
   };
   LeafSources leafSources(int leaf) const;
+  // For a gather at `point`: the exact sources close to it handed to the rays (final_gather.cpp).
+  LeafSources nearSourcesByRays(const Vec3& point, LeafSources sources) const;
   // The leaf holding the point of a receiver facing `normal`, if any.
   std::optional<int> leafContaining(const Vec3& point, const Vec3& normal) const;
   void solveLeaves(const std::vector<LeafGather>& gathered);
