@@ -79,6 +79,12 @@ struct RadiositySolver::LeafGather {
   // Gathers at a point (gatheredIndirect) with an exact direct part: rays that meet a leaf
   // closer than its size are kept apart, where they met it (continued there: reflectedAlong).
   bool keepNearHits = false;
+  // Cast rounds of rays until a quarter of a round's count met something that sends light (not
+  // only something): a point outside the Cornell box's opening, among black walls, sees the lit
+  // inside through a sliver of its hemisphere, and with one round its 1,024 rays met it some 50
+  // times (errors of ±25%). Off for the cells of a leaf that reflects nothing: nothing it sends
+  // depends on them.
+  bool untilLight = false;
   struct NearHit {
     int leaf = 0;
     Vec3 point;
@@ -220,6 +226,7 @@ void RadiositySolver::finalGather() {
 
     SplitMix rng(options_.seed * 0x9e3779b97f4a7c15ull + id);
     LeafGather& leafGather = gathered[id];
+    leafGather.untilLight = leaf.reflectance.maxComponent() > 0;
     std::vector<GatherEntry>& entries = leafGather.exposed;
     // Each of the leaf's 16 grandchild cells gathers the mean over the cell of what arrives, so
     // that the receivers integrate what a source sends as the links' quadrature does: the point
@@ -302,8 +309,9 @@ void RadiositySolver::finalGather() {
 
 // What the exact sources leave of x's hemisphere, `remainder`, split by cosine-distributed rays
 // among what they meet outside those sources: the leaf met (its radiosity), or nothing (a back
-// face, or no surface). Rays are cast in rounds until a quarter of a round's count has met
-// something outside the exact sources; where none does (the remainder is a sliver of the
+// face, or no surface). Rays are cast in rounds (at most kRounds) until a quarter of a round's
+// count has met something outside the exact sources (something that sends light, with
+// LeafGather::untilLight); where none does (the remainder is a sliver of the
 // hemisphere) or the remainder is below kNoRays of it, it goes to the ray sources' root
 // elements in proportion to their unoccluded form factors from x.
 void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3, 4>& cell,
@@ -334,7 +342,10 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         if (std::binary_search(exactSources.begin(), exactSources.end(), e)) return true;
       return false;
     };
-    for (int round = 0; round < kRounds && 4 * int(met.size()) < rays; ++round)
+    // Rays that met something, and those of them that met something sending light.
+    int lit = 0;
+    const auto enough = [&] { return 4 * (gather.untilLight ? lit : int(met.size())) >= rays; };
+    for (int round = 0; round < kRounds && !enough(); ++round)
       for (int r = 0; r < rays; ++r) {
         // Stratified on the unit disc, lifted to the hemisphere.
         const bool stratified = r < side * side;
@@ -382,6 +393,9 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         // A ray met near counts here like the others, and sends through gather.near.
         const bool near = gather.keepNearHits && h >= 0 && isNearHit(h, hit->t);
         if (near) gather.near.push_back({h, hit->point, hit->polygon, 0});
+        if (h >= 0 && (elements_[h].reflectance.maxComponent() > 0 ||
+                       elements_[h].radiometry.emission.maxComponent() > 0))
+          ++lit;
         met.push_back(near || h < 0 ? std::pair{-1, 0}
                                     : std::pair{h, elements_[h].grandchildContaining(hit->point)});
       }
@@ -571,6 +585,7 @@ std::optional<Rgb> RadiositySolver::gatheredIndirect(const Vec3& point, const Ve
     const std::array<Vec3, 4> cell{point, point, point, point};
     SplitMix rng(seed);
     gather.keepNearHits = static_cast<bool>(options_.exactDirect);
+    gather.untilLight = true;
     splitRemainder(leaf, cell, point, remainder, sources.rayElements, sources.exactSources, rays,
                    rng, gather);
     for (const LeafGather::NearHit& near : gather.near)
