@@ -36,6 +36,17 @@ struct PinholeFrame {
 RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
                                const RayCaster& rays, const ExactReference& reference,
                                const RayTraceOptions& options) {
+  return renderRayTraced(
+      scene, camera, rays,
+      [&](const Vec3& p, const Vec3& n, PolygonId polygon, std::uint64_t) {
+        return reference.irradiance(p, n, polygon);
+      },
+      options);
+}
+
+RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
+                               const RayCaster& rays, const IrradianceAtHit& irradianceAt,
+                               const RayTraceOptions& options) {
   const int w = options.width, h = options.height;
   RayTracedImage out{Image(w, h), Image(w, h)};
   const PinholeFrame frame(camera, w, h);
@@ -61,7 +72,10 @@ RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
         const Material& material = scene.materialOf(polygon);
         // Embree's hit point is single precision: put it back on the polygon's plane.
         const Vec3 p = polygon.plane.project(hit->point);
-        const Rgb e = reference.irradiance(p, polygon.plane.normal, polygon.id);
+        const Rgb e = irradianceAt(p, polygon.plane.normal, polygon.id,
+                                   (std::uint64_t(y) * std::uint64_t(w) + std::uint64_t(x)) *
+                                           std::uint64_t(spp) +
+                                       std::uint64_t(s));
         irradiance += e;
         radiance += (material.reflectance * e + material.emission) / std::numbers::pi;
       }

@@ -4,6 +4,7 @@
 // DESIGN.md §5, so the image shows exact soft shadows with no mesh and no sampling noise in the
 // penumbra. Radiance of a Lambertian surface: L = ρ/π · E (+ M/π on a light's front side).
 
+#include <cstdint>
 #include <functional>
 
 #include "penumbra/render/image.h"
@@ -30,6 +31,15 @@ struct RayTracedImage {
 
 RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
                                const RayCaster& rays, const ExactReference& reference,
+                               const RayTraceOptions& options);
+
+// The same camera and shading with any irradiance at the first hit: a path tracer's total, or a
+// solution's samples (bench/combined_images). `seed` is distinct per pixel sample and the same in
+// every run, so a sampled irradiance gives the same image for any number of threads.
+using IrradianceAtHit =
+    std::function<Rgb(const Vec3& p, const Vec3& n, PolygonId polygon, std::uint64_t seed)>;
+RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
+                               const RayCaster& rays, const IrradianceAtHit& irradianceAt,
                                const RayTraceOptions& options);
 
 }  // namespace penumbra
