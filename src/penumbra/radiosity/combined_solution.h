@@ -11,11 +11,12 @@
 // light and a path on), so nothing is interpolated and no light leaks under furniture or through
 // a gap from a leaf reaching into the light. Both engines share one live scene.
 //
-// Measured against the independent path tracer (bench/radiosity_error_curve --combined, 1e-3,
-// 1,024 rays per point; docs/radiosity.md): median 0.77%, p95 7.3% in the Cornell box (radiosity
-// alone: 3.7% and 23%), 1.09% and 2.5% in the chair room, 1.28% and 5.8% in the furnished room;
-// what is left is the rays' noise where little of the hemisphere is lit (the dark room in front
-// of the Cornell box's opening) and indirect light about 1% low in the rooms.
+// Measured against the independent path tracer (bench/radiosity_error_curve --combined
+// --points 250, 1e-3, 1,024 rays per point; docs/radiosity.md, session 23): median 0.68%, p95
+// 4.2% in the Cornell box (radiosity alone: 3.7% and 23%), 0.33% and 1.4% in the chair room, 0.53%
+// and 4.5% in the furnished room, 0.28% and 1.4% in desk-145; the indirect part summed over the
+// points within 0.7% of the path tracer's. Rays take the radiosity of the leaf's cell they meet
+// (not the leaf's mean, which had the indirect light 1-2% low).
 
 #include <optional>
 
