@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -30,6 +31,22 @@ RadiosityOptions withTolerance(double tolerance) {
   RadiosityOptions options;
   options.tolerance = tolerance;
   return options;
+}
+
+// The independent path tracer's estimates at the points, `paths` each (sampled direct light: its
+// visibility is its own shadow rays, not the exact reference's clipping that the discontinuity
+// mesh is checked against); point i's seed is firstSeed + i.
+std::vector<PathTracedEstimate> pathTraced(const PosedScene& posed,
+                                           const std::vector<ReceiverPoint>& points, int paths,
+                                           std::uint64_t firstSeed) {
+  const RayCaster rays(posed);
+  const PathTracedReference tracer(posed, rays);
+  std::vector<PathTracedEstimate> estimates(points.size());
+  parallelFor((long long)points.size(), 0, [&](long long i) {
+    estimates[i] = tracer.irradiance(points[i].p, points[i].n, points[i].receiver, paths,
+                                     firstSeed + std::uint64_t(i));
+  });
+  return estimates;
 }
 
 // The direct part is the discontinuity mesh's, exact: against the exact reference at random
@@ -78,18 +95,12 @@ TEST(CombinedSolution, CloserToPathTracingThanRadiosityAlone) {
   RadiositySolver alone(withTolerance(1e-3));
   alone.build(live);
 
-  // Sampled direct light: the path tracer's visibility is its own (shadow rays), not the exact
-  // reference's clipping that the discontinuity mesh is checked against.
-  const RayCaster rays(posed);
-  const PathTracedReference tracer(posed, rays);
   const std::vector<ReceiverPoint> points = sampleReceiverPoints(posed, 64, 11);
-  std::vector<double> reference(points.size()), noise(points.size());
-  parallelFor((long long)points.size(), 0, [&](long long i) {
-    const PathTracedEstimate e =
-        tracer.irradiance(points[i].p, points[i].n, points[i].receiver, 32768, 500 + i);
-    reference[i] = e.total().average();
-    noise[i] = e.totalStandardError.average();
-  });
+  std::vector<double> reference, noise;
+  for (const PathTracedEstimate& e : pathTraced(posed, points, 32768, 500)) {
+    reference.push_back(e.total().average());
+    noise.push_back(e.totalStandardError.average());
+  }
   double mean = 0;
   for (double r : reference) mean += r / double(reference.size());
   std::vector<double> combinedErrors, aloneErrors, relativeNoise;
@@ -129,13 +140,8 @@ TEST(CombinedSolution, IndirectLightIsNotLowInTheChairRoom) {
   const DynamicScene live(posed);
   CombinedSolution combined(withTolerance(3e-3), {}, 512);
   combined.build(live);
-  const RayCaster rays(posed);
-  const PathTracedReference tracer(posed, rays);
   const std::vector<ReceiverPoint> points = sampleReceiverPoints(posed, 80, 19);
-  std::vector<PathTracedEstimate> reference(points.size());
-  parallelFor((long long)points.size(), 0, [&](long long i) {
-    reference[i] = tracer.irradiance(points[i].p, points[i].n, points[i].receiver, 8192, 900 + i);
-  });
+  const std::vector<PathTracedEstimate> reference = pathTraced(posed, points, 8192, 900);
   double mean = 0;
   for (const PathTracedEstimate& r : reference) mean += r.total().average() / double(points.size());
   double solution = 0, traced = 0, tracedVariance = 0;
@@ -169,8 +175,6 @@ TEST(CombinedSolution, CornersAreNotTooBright) {
   const DynamicScene live(posed);
   CombinedSolution combined(withTolerance(1e-3));
   combined.build(live);
-  const RayCaster rays(posed);
-  const PathTracedReference tracer(posed, rays);
   // The back wall (z = 0.5592, facing -z) below the ceiling (y = 0.5488) and beside the left
   // wall (x = 0), and the ceiling (facing -y) beside the back wall.
   std::vector<ReceiverPoint> points;
@@ -180,10 +184,7 @@ TEST(CombinedSolution, CornersAreNotTooBright) {
       points.push_back({{gap, along, 0.5592}, {0, 0, -1}, 2});
       points.push_back({{along, 0.5488, 0.5592 - gap}, {0, -1, 0}, 1});
     }
-  std::vector<PathTracedEstimate> reference(points.size());
-  parallelFor((long long)points.size(), 0, [&](long long i) {
-    reference[i] = tracer.irradiance(points[i].p, points[i].n, points[i].receiver, 32768, 70 + i);
-  });
+  const std::vector<PathTracedEstimate> reference = pathTraced(posed, points, 32768, 70);
   double worst = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     const auto c = combined.sample(points[i].p, points[i].n);
@@ -209,8 +210,6 @@ TEST(CombinedSolution, PointsLitThroughTheOpeningAreNotNoisy) {
   const DynamicScene live(posed);
   CombinedSolution combined(withTolerance(1e-3));
   combined.build(live);
-  const RayCaster rays(posed);
-  const PathTracedReference tracer(posed, rays);
   // The black ceiling (polygon 6, y = 0.5488, facing down) and right wall (polygon 8, x = 0.556,
   // facing -x) in front of the opening (z < 0).
   std::vector<ReceiverPoint> points;
@@ -219,10 +218,7 @@ TEST(CombinedSolution, PointsLitThroughTheOpeningAreNotNoisy) {
       points.push_back({{t, 0.5488, z}, {0, -1, 0}, 6});
       points.push_back({{0.556, t, z}, {-1, 0, 0}, 8});
     }
-  std::vector<PathTracedEstimate> reference(points.size());
-  parallelFor((long long)points.size(), 0, [&](long long i) {
-    reference[i] = tracer.irradiance(points[i].p, points[i].n, points[i].receiver, 65536, 40 + i);
-  });
+  const std::vector<PathTracedEstimate> reference = pathTraced(posed, points, 65536, 40);
   double squares = 0, noiseSquares = 0, worst = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     const auto c = combined.sample(points[i].p, points[i].n);
