@@ -22,19 +22,21 @@
 //    projections of the polygons in the shaft, as the exact reference clips a light); they send
 //    the source's radiosity.
 //  - Ray sources: partly hidden element sources and the root elements of cluster sources.
-//    Cosine-distributed rays from points of the cell take the radiosity of the leaf they meet (0
-//    on a back face: polygons emit and reflect from their front only), so a source's part hidden
-//    from the cell, often the part in shadow, is not sent at the visible part's visibility. Rays
+//    Cosine-distributed rays from points of the cell take the radiosity of the cell of the leaf
+//    they meet, its own direct and indirect light (0 on a back face: polygons emit and reflect
+//    from their front only), so a source's part hidden from the cell, often the part in shadow,
+//    is not sent at the visible part's visibility, nor with the light of its shadowed cells. Rays
 //    meeting an exact source are already counted; the others share what the exact ones leave of
 //    the hemisphere, 1 − Σ exact (a ratio estimator, Hammersley & Handscomb 1964 §5.5): the sum
 //    over the cell is then 1 in a closed scene whatever the rays' noise, and the noise stays in
 //    how the remainder is split.
 //  - A cell covered by a polygon in contact (a box's bottom on the floor) sees only that polygon,
 //    and a leaf partly covered sends the room the radiosity of its exposed cells.
-// The leaves' radiosities are then solved again by Jacobi iteration over these transfers, starting
-// from the hierarchical solution: the answer shown (mesh, probes) and its energy balance are those
-// of this final solution. The hierarchical solution (NodeRadiometry::irradianceDirect / Indirect)
-// is what refinement follows; it is kept for comparison.
+// The leaves' and their cells' radiosities are then solved again by Jacobi iteration over these
+// transfers, starting from the hierarchical solution: the answer shown (mesh, probes) and its
+// energy balance are those of this final solution. The hierarchical solution
+// (NodeRadiometry::irradianceDirect / Indirect) is what refinement follows; it is kept for
+// comparison.
 
 #include <algorithm>
 #include <array>
