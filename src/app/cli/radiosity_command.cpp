@@ -48,6 +48,7 @@ nlohmann::json statsJson(const RadiosityStats& s) {
             {"passive_links", s.passiveLinkBytes},
             {"shafts", s.shaftBytes},
             {"mesh", s.meshBytes},
+            {"final", s.finalBytes},
             {"total", s.totalBytes()}}}};
 }
 

@@ -325,6 +325,16 @@ void RadiositySolver::computeStats() {
   stats_.meshBytes = mesh_.positions.capacity() * (2 * sizeof(Vec3) + 3 * sizeof(Rgb)) +
                      mesh_.polygons.capacity() * sizeof(PolygonId) +
                      mesh_.indices.capacity() * sizeof(std::uint32_t);
+  stats_.finalBytes =
+      (exposedReflected_.capacity() + coveredReflected_.capacity() + cellReflected_.capacity()) *
+      sizeof(Rgb);
+  const GatherIndex& g = gatherIndex_;
+  for (const auto* lists : {&g.elementLinks, &g.clusterLinks}) {
+    stats_.finalBytes += lists->capacity() * sizeof(std::vector<int>);
+    for (const std::vector<int>& links : *lists)
+      stats_.finalBytes += links.capacity() * sizeof(int);
+  }
+  stats_.finalBytes += (g.parentCluster.capacity() + g.rootCluster.capacity()) * sizeof(int);
 }
 
 }  // namespace penumbra

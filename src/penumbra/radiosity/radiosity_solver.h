@@ -139,9 +139,12 @@ struct RadiosityStats {
   std::size_t passiveLinkBytes = 0;
   std::size_t shaftBytes = 0;
   std::size_t meshBytes = 0;  // per-vertex output mesh
+  // The final solution: each element's and each leaf cell's radiosity, and the index of the
+  // links above each leaf that point queries gather from.
+  std::size_t finalBytes = 0;
   std::size_t totalBytes() const {
     return clusterBytes + elementBytes + activeLinkBytes + passiveLinkBytes + shaftBytes +
-           meshBytes;
+           meshBytes + finalBytes;
   }
   double refineSeconds = 0;
   double solveSeconds = 0;
