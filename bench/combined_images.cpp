@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_statistics.h"
 #include "penumbra/lighting/path_traced_reference.h"
 #include "penumbra/radiosity/combined_solution.h"
 #include "penumbra/render/gl_context.h"
@@ -34,6 +35,7 @@
 #include "penumbra/spatial/ray_caster.h"
 
 using namespace penumbra;
+using bench::percentile;
 
 namespace {
 
@@ -50,12 +52,6 @@ struct Options {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-double percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  return values[std::min(values.size() - 1, size_t(q * double(values.size())))];
 }
 
 int run(const Options& o) {
@@ -131,15 +127,15 @@ int run(const Options& o) {
   std::printf(
       "%s (%dx%d): combined solution %.2f s + drawing %.2f s; path tracer at %d paths per pixel "
       "%.1f s\n",
-      name.c_str(), camera.width, camera.height, solveSeconds, drawSeconds, o.paths,
-      traceSeconds);
+      name.c_str(), camera.width, camera.height, solveSeconds, drawSeconds, o.paths, traceSeconds);
   std::printf(
       "  %zu lit pixels: relative difference of the radiance median %.2f%%, p95 %.2f%%, "
       "beyond %.0f%% %.2f%% of them\n",
       differences.size(), 100 * percentile(differences, 0.5), 100 * percentile(differences, 0.95),
       100 * kFullScale,
-      100 * double(std::count_if(differences.begin(), differences.end(),
-                                 [](double d) { return d > kFullScale; })) /
+      100 *
+          double(std::count_if(differences.begin(), differences.end(),
+                               [](double d) { return d > kFullScale; })) /
           double(std::max<size_t>(1, differences.size())));
   return 0;
 }

@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_statistics.h"
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/path_traced_reference.h"
@@ -53,6 +54,7 @@
 #include "penumbra/spatial/uniform_grid.h"
 
 using namespace penumbra;
+using bench::percentile;
 
 namespace {
 
@@ -130,14 +132,6 @@ std::vector<OpenPoint> referencePoints(const std::string& path, const PosedScene
   return open;
 }
 
-double percentile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  const double at = q * double(values.size() - 1);
-  const size_t i = size_t(at);
-  const double t = at - double(i);
-  return i + 1 < values.size() ? values[i] * (1 - t) + values[i + 1] * t : values[i];
-}
-
 // The path tracer itself as a solver, beside the curve: at the same points, with fewer paths
 // (another seed than the reference's), its median and p95 error and its cost per point, on one
 // thread: what a combined or radiosity solution must beat to be worth its solve.
@@ -182,9 +176,9 @@ void printWorst(const std::vector<OpenPoint>& points,
                 const std::vector<std::optional<RadiositySample>>& samples, int worst) {
   std::vector<size_t> order(points.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto value = [&](size_t i) { return samples[i] ? samples[i]->total().average() : 0; };
   const auto error = [&](size_t i) {
-    const double value = samples[i] ? samples[i]->total().average() : 0;
-    return std::abs(value - points[i].reference) / points[i].reference;
+    return std::abs(value(i) - points[i].reference) / points[i].reference;
   };
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return error(a) > error(b); });
   for (size_t k = 0; k < std::min(order.size(), size_t(std::max(0, worst))); ++k) {
@@ -192,10 +186,9 @@ void printWorst(const std::vector<OpenPoint>& points,
     std::printf(
         "#   %+7.1f%% at (%.4f %.4f %.4f) normal (%.2f %.2f %.2f), polygon %d: %.4g against "
         "%.4g +- %.2g%% (direct %.4g)\n",
-        100 * (samples[order[k]] ? samples[order[k]]->total().average() / p.reference - 1 : -1),
-        p.point.p.x, p.point.p.y, p.point.p.z, p.point.n.x, p.point.n.y, p.point.n.z,
-        int(p.point.receiver), samples[order[k]] ? samples[order[k]]->total().average() : 0,
-        p.reference, 100 * p.standardError / p.reference, p.direct);
+        100 * (value(order[k]) / p.reference - 1), p.point.p.x, p.point.p.y, p.point.p.z,
+        p.point.n.x, p.point.n.y, p.point.n.z, int(p.point.receiver), value(order[k]), p.reference,
+        100 * p.standardError / p.reference, p.direct);
   }
 }
 

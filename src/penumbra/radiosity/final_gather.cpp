@@ -203,7 +203,7 @@ void RadiositySolver::finalGather() {
       int count = 0;
       bool answered = true;
       const std::array<Vec3, 16> points = gatherPoints(leaf);
-      for (int k = 0; k < 16 && answered; ++k) {
+      for (int k = 0; k < 16; ++k) {
         if (isCovered(leaf.polygon, points[k])) continue;
         const std::optional<Rgb> e = options_.exactDirect(points[k], leaf.normal, leaf.polygon);
         answered = e.has_value();
