@@ -86,9 +86,21 @@ struct GalerkinRadiosity::SolveState {
   };
   bool valid = false;
   // The carried links by source element or cluster (together: the iterations carry a source's
-  // change over all its links at once), and a flag per pair.
+  // change over all its links at once), and per pair where in its source's list it is carried
+  // (kNotCarried: not), so that a change takes it back without searching the list.
+  static constexpr std::int32_t kNotCarried = -1;
   std::vector<std::vector<Carried>> fromElement, fromCluster;
-  std::vector<char> carried;
+  std::vector<std::int32_t> carriedAt;
+  bool isCarried(int pair) const {
+    return size_t(pair) < carriedAt.size() && carriedAt[size_t(pair)] != kNotCarried;
+  }
+  // Appends a pair's link to its source's list and records where.
+  Carried& carry(const Carried& link) {
+    std::vector<Carried>& list = fromSource(link.source);
+    carriedAt[size_t(link.pair)] = std::int32_t(list.size());
+    list.push_back(link);
+    return list.back();
+  }
   // Per element and per cluster: what each source's links last carried (reflected radiosity,
   // B − M; a cluster's lobes), and the sums of K x sent they made at their receivers.
   std::vector<LinearRgb> sent, gathered;

@@ -55,6 +55,7 @@ void GalerkinRadiosity::clear() {
   lastMovedIds_.clear();
   stats_ = {};
   invalidateSolveState();
+  dropPassKeys();
 }
 
 void GalerkinRadiosity::takeScene(const DynamicScene& scene) {

@@ -380,6 +380,33 @@ class GalerkinRadiosity {
   std::pair<PolygonId, PolygonId> ownPolygons(NodeRef r, NodeRef s) const;
   double oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
                 double hiddenTransfer) const;
+  // What the oracle weighs the receiver's area and the source's largest radiosity by.
+  double oracleVariation(NodeRef r, NodeRef s, double meanTransfer, double spread,
+                         double hiddenTransfer) const;
+  // What a refinement pass reads of a pair, but the source's radiosity, kept in a dense array
+  // beside the pairs: a pass scans every pair, twice per update, and a pair's record is large.
+  // A pair's key is made again when it has changed (beforeChange marks it stale), all of them
+  // after a compaction renumbers the pairs. The oracle from a key is the stored pair's, bit for
+  // bit (the same terms multiplied in the same order).
+  struct PassKey {
+    double receiverArea = 0, variation = 0;
+    NodeRef source;
+    GLink::State state = GLink::kNone;
+  };
+  std::vector<PassKey> passKeys_;
+  std::vector<char> passKeyStale_;  // per pair: changed since its key was made
+  // Makes the stale keys and those of pairs appended since, up to links_.size().
+  void refreshPassKeys();
+  void dropPassKeys() {
+    passKeys_.clear();
+    passKeyStale_.clear();
+  }
+  PassKey passKeyOf(const GLink& link) const;
+  double oracleOf(const PassKey& key) const {
+    return key.receiverArea * nodeOf(key.source).maxRadiosity * key.variation;
+  }
+  // Empty when every key that is not stale is its pair's made again, else the first difference.
+  std::string verifyPassKeys() const;
   // The oracle on a stored pair's estimate.
   double oracleOf(const GLink& link) const {
     return oracle(link.receiver, link.source, link.meanTransfer, link.spread, link.hiddenTransfer);
@@ -556,9 +583,11 @@ class GalerkinRadiosity {
   std::string verifySolveState() const;
   // Pushes the irradiance `n` gathered, direct and indirect together (plus what element
   // ancestors pushed, in n's basis, and the lobes of cluster ancestors), down to the leaves, sets
-  // B there and pulls it back up; returns the largest change of a leaf's B. The iterations need
+  // B there and pulls it back up; returns the largest change of a leaf's B, and raises
+  // `largestReflected` to the largest reflected B (B − M) of a leaf below n. The iterations need
   // only the sum: the two parts are pushed once, after them (storeIrradiance).
-  double pushPull(NodeRef n, const LinearRgb& arrived, const AxisLobes& arrivedLobes);
+  double pushPull(NodeRef n, const LinearRgb& arrived, const AxisLobes& arrivedLobes,
+                  double& largestReflected);
   // Pushes the direct and the indirect irradiance down apart and keeps them at every element
   // (Node::irradianceDirect, irradianceIndirect), for the queries of the solution.
   void storeIrradiance(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,

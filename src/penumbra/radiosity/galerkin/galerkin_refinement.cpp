@@ -31,6 +31,12 @@ InputError budgetExceeded(double tolerance, const char* what, long long limit) {
 // surfaces are taken as a whole) and at an element partly covered by a polygon in contact.
 double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
                                  double hiddenTransfer) const {
+  return area(r) * nodeOf(s).maxRadiosity *
+         oracleVariation(r, s, meanTransfer, spread, hiddenTransfer);
+}
+
+double GalerkinRadiosity::oracleVariation(NodeRef r, NodeRef s, double meanTransfer, double spread,
+                                          double hiddenTransfer) const {
   double variation = spread + options_.hiddenWeight * std::min(hiddenTransfer, meanTransfer);
   if (r.isCluster() || s.isCluster()) variation += meanTransfer;
   // A partly covered end: the covered part's share goes to (or comes from) the exposed part.
@@ -38,7 +44,33 @@ double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, doub
     return n.isElement() && elements_[n.index].cover == GElement::kPartlyCovered;
   };
   if (partlyCovered(r) || partlyCovered(s)) variation += meanTransfer;
-  return area(r) * nodeOf(s).maxRadiosity * variation;
+  return variation;
+}
+
+GalerkinRadiosity::PassKey GalerkinRadiosity::passKeyOf(const GLink& link) const {
+  PassKey key;
+  key.state = link.state;
+  if (link.state != GLink::kActive && link.state != GLink::kPassive) return key;
+  key.receiverArea = area(link.receiver);
+  key.variation = oracleVariation(link.receiver, link.source, link.meanTransfer, link.spread,
+                                  link.hiddenTransfer);
+  key.source = link.source;
+  return key;
+}
+
+void GalerkinRadiosity::refreshPassKeys() {
+  const size_t known = passKeys_.size();
+  passKeys_.resize(links_.size());
+  passKeyStale_.resize(links_.size(), 0);
+  for (size_t i = 0; i < known; ++i)
+    if (passKeyStale_[i]) {
+      passKeys_[i] = passKeyOf(links_[i]);
+      passKeyStale_[i] = 0;
+    }
+  for (size_t i = known; i < links_.size(); ++i) {
+    passKeys_[i] = passKeyOf(links_[i]);
+    passKeyStale_[i] = 0;
+  }
 }
 
 double GalerkinRadiosity::oracleOf(NodeRef r, NodeRef s, const Estimate& e) const {
@@ -202,6 +234,7 @@ void GalerkinRadiosity::shapeChild(const GElement& parent, const std::array<Vec3
 
 void GalerkinRadiosity::compactPairs() {
   invalidateSolveState();  // it names pairs by their places
+  dropPassKeys();          // so do they
   // Breadth first from the root pair, each pair's children placed together: the order keeps
   // children contiguous and parents before their children, as refinement makes them.
   std::vector<int> order{0}, newIndex(links_.size(), -1);
@@ -234,6 +267,7 @@ void GalerkinRadiosity::compactPairs() {
 
 long long GalerkinRadiosity::compactElements() {
   invalidateSolveState();  // it names elements by their places
+  dropPassKeys();          // so do they
   // Which elements a pair names; an element's split is kept while its subtree holds one.
   std::vector<char> needed(elements_.size(), 0);
   for (const GLink& link : links_) {
@@ -391,20 +425,29 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
   // One scan in storage order, where a pair comes before its descendants: a cleaned-up pair's
   // subtree is dropped before the scan reaches it, and the splits are refined after the scan, so
   // the outcome is that of a clean-up scan followed by a split scan.
+  // The scan reads the pairs' keys (PassKey); a pair the scan itself changes (a cleaned-up
+  // pair's dropped subtree) is marked stale and read from its record.
   PassOutcome outcome;
   std::vector<RefineTask> wave;
+  refreshPassKeys();
   const int count = int(links_.size());
   for (int i = 0; i < count; ++i) {
-    const GLink& link = links_[i];
-    if (link.state == GLink::kPassive && cleanUpBelow >= 0) {
-      if (oracleOf(link) > cleanUpBelow) continue;
+    if (passKeyStale_[size_t(i)]) {
+      passKeys_[size_t(i)] = passKeyOf(links_[size_t(i)]);
+      passKeyStale_[size_t(i)] = 0;
+    }
+    const PassKey& key = passKeys_[size_t(i)];
+    if (key.state == GLink::kPassive && cleanUpBelow >= 0) {
+      if (oracleOf(key) > cleanUpBelow) continue;
       outcome.dropped += dropChildren(i);
       setState(links_[i], GLink::kActive);
       ++outcome.cleanedUp;
       continue;
     }
-    if (!asksToSplit(link) || deferSplit()) continue;
+    if (key.state != GLink::kActive || !(oracleOf(key) > threshold_)) continue;
+    const GLink& link = links_[size_t(i)];
     const std::optional<NodeRef> end = endToSplit(link.receiver, link.source);
+    if (!end || deferSplit()) continue;
     // Its children filter what its own estimate used (made again if it was not kept).
     const NodeRef r = link.receiver, s = link.source;
     const Candidates own = candidatesFor(i);

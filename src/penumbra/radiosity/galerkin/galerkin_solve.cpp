@@ -153,7 +153,7 @@ std::size_t GalerkinRadiosity::solveStateBytes() const {
   std::size_t bytes = changedPairs_.capacity() * sizeof(int) + pairChanged_.capacity();
   if (!solveState_) return bytes;
   const SolveState& state = *solveState_;
-  bytes += sizeof(SolveState) + state.carried.capacity() +
+  bytes += sizeof(SolveState) + state.carriedAt.capacity() * sizeof(std::int32_t) +
            (state.fromElement.capacity() + state.fromCluster.capacity()) *
                sizeof(std::vector<SolveState::Carried>);
   for (const auto* lists : {&state.fromElement, &state.fromCluster})
@@ -166,18 +166,20 @@ std::size_t GalerkinRadiosity::solveStateBytes() const {
 }
 
 void GalerkinRadiosity::beforeChange(int pair) {
+  if (size_t(pair) < passKeyStale_.size()) passKeyStale_[size_t(pair)] = 1;
   // Only a valid state carries changes: else the next solve gathers everything anyway.
   if (!solveState_ || !solveState_->valid) return;
   SolveState& state = *solveState_;
-  if (size_t(pair) < state.carried.size() && state.carried[size_t(pair)]) {
-    // Taken back as it was added (its source is the pair's for good).
+  if (state.isCarried(pair)) {
+    // Taken back as it was added (its source is the pair's for good); the list's last link
+    // takes its place.
     std::vector<SolveState::Carried>& list = state.fromSource(links_[size_t(pair)].source);
-    const auto at = std::find_if(list.begin(), list.end(),
-                                 [&](const SolveState::Carried& c) { return c.pair == pair; });
-    carryLink(state, elements_, clusters_, *at, -1);
-    *at = list.back();
+    const std::int32_t at = state.carriedAt[size_t(pair)];
+    carryLink(state, elements_, clusters_, list[size_t(at)], -1);
+    list[size_t(at)] = list.back();
+    state.carriedAt[size_t(list[size_t(at)].pair)] = at;
     list.pop_back();
-    state.carried[size_t(pair)] = 0;
+    state.carriedAt[size_t(pair)] = SolveState::kNotCarried;
   }
   if (pairChanged_.size() <= size_t(pair)) pairChanged_.resize(links_.size(), 0);
   if (pairChanged_[size_t(pair)]) return;
@@ -220,7 +222,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
     incremental = state.emission[e] == elements_[e].node.emission;
   for (size_t c = 0; incremental && c < clusterCount; ++c)
     incremental = state.clusterEmitted[c] == clusters_[c].emittedLobes;
-  state.carried.resize(links_.size(), 0);
+  state.carriedAt.resize(links_.size(), SolveState::kNotCarried);
   if (incremental) {
     // Elements split since: nothing carried to or from them yet.
     for (size_t e = sent.size(); e < elementCount; ++e) {
@@ -236,14 +238,12 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       std::vector<SolveState::Carried>& list = state.fromSource(link.source);
       // Grown by an eighth, not doubled: the lists are kept, and an update adds a few.
       if (list.size() == list.capacity()) list.reserve(list.size() + list.size() / 8 + 2);
-      list.push_back(carriedOf(pair));
-      carryLink(state, elements_, clusters_, list.back(), 1);
-      state.carried[size_t(pair)] = 1;
+      carryLink(state, elements_, clusters_, state.carry(carriedOf(pair)), 1);
     }
   } else {
     state.fromElement.assign(elementCount, {});
     state.fromCluster.assign(clusterCount, {});
-    std::fill(state.carried.begin(), state.carried.end(), 0);
+    std::fill(state.carriedAt.begin(), state.carriedAt.end(), SolveState::kNotCarried);
     // Each list sized to what it holds: they are kept (an update adds a few and takes a few).
     std::vector<int> elementLinks(elementCount, 0), clusterLinks(clusterCount, 0);
     for (const GLink& link : links_)
@@ -253,10 +253,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
     for (size_t e = 0; e < elementCount; ++e) state.fromElement[e].reserve(elementLinks[e]);
     for (size_t c = 0; c < clusterCount; ++c) state.fromCluster[c].reserve(clusterLinks[c]);
     for (size_t i = 0; i < links_.size(); ++i)
-      if (links_[i].active()) {
-        state.carried[i] = 1;
-        state.fromSource(links_[i].source).push_back(carriedOf(int(i)));
-      }
+      if (links_[i].active()) state.carry(carriedOf(int(i)));
     sent.resize(elementCount);
     gathered.resize(elementCount);
     clusterSent.resize(clusterCount);
@@ -339,11 +336,11 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
           carryChange(state, link, {}, delta);
       }
     }
-    const double change = pushPull({NodeRef::kCluster, 0}, {}, {});
+    largestReflected = 0;
+    const double change = pushPull({NodeRef::kCluster, 0}, {}, {}, largestReflected);
     ++stats_.iterations;
     // Against the largest reflected radiosity, not B: a lamp's emission can be a hundred times
     // what the walls reflect, and measured against it the indirect light stopped 1% short.
-    largestReflected = largestLeafReflected();
     if (change <= convergence * std::max(largestReflected, 1e-300)) break;
     // Frame-rate control: the next update goes on from here (it solves from this solution).
     if (overBudget()) {
@@ -359,7 +356,7 @@ std::string GalerkinRadiosity::verifySolveState() const {
   const SolveState& state = *solveState_;
   for (size_t i = 0; i < links_.size(); ++i) {
     const bool changed = i < pairChanged_.size() && pairChanged_[i] != 0;
-    const bool carried = i < state.carried.size() && state.carried[i] != 0;
+    const bool carried = state.isCarried(int(i));
     // A changed pair was taken back as it changed; the next solve carries it.
     if (carried != (links_[i].active() && !changed))
       return "pair " + std::to_string(i) +
@@ -378,12 +375,15 @@ std::string GalerkinRadiosity::verifySolveState() const {
     const size_t index = isCluster ? source - elementCount : source;
     const std::vector<SolveState::Carried>& list =
         isCluster ? state.fromCluster[index] : state.fromElement[index];
-    for (const SolveState::Carried& link : list) {
+    for (size_t at = 0; at < list.size(); ++at) {
+      const SolveState::Carried& link = list[at];
       ++listed;
       const GLink& stored = links_[size_t(link.pair)];
-      if (!state.carried[size_t(link.pair)] || link.source.isCluster() != isCluster ||
-          link.source.index != int(index) || !(link.receiver == stored.receiver) ||
-          !(link.source == stored.source) || std::memcmp(&link.k, &stored.k, sizeof link.k) != 0 ||
+      if (!state.isCarried(link.pair) || size_t(state.carriedAt[size_t(link.pair)]) != at)
+        return "pair " + std::to_string(link.pair) + ": carried elsewhere in its source's list";
+      if (link.source.isCluster() != isCluster || link.source.index != int(index) ||
+          !(link.receiver == stored.receiver) || !(link.source == stored.source) ||
+          std::memcmp(&link.k, &stored.k, sizeof link.k) != 0 ||
           std::memcmp(&link.direction, &stored.direction, sizeof link.direction) != 0)
         return "pair " + std::to_string(link.pair) +
                ": carried by the solve as it was before a change, or under another source";
@@ -412,7 +412,7 @@ std::string GalerkinRadiosity::verifySolveState() const {
     }
   }
   long long carriedCount = 0;
-  for (char c : state.carried) carriedCount += c;
+  for (std::int32_t at : state.carriedAt) carriedCount += at != SolveState::kNotCarried;
   if (listed != carriedCount) return "the solve lists a pair twice, or leaves one out";
   // Each add and take-back rounds by an ulp of the running sum, which may have held terms since
   // taken back (a receiver that lost its links keeps a residue of what they carried): allowed
@@ -443,7 +443,7 @@ std::string GalerkinRadiosity::verifySolveState() const {
 }
 
 double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
-                                   const AxisLobes& arrivedLobes) {
+                                   const AxisLobes& arrivedLobes, double& largestReflected) {
   const SolveState& state = *solveState_;
   if (n.isCluster()) {
     GCluster& cluster = clusters_[n.index];
@@ -455,11 +455,12 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
     AxisLobes reflected{};
     for (NodeRef child : cluster.structure.children) {
       if (child.isCluster()) {
-        change = std::max(change, pushPull(child, {}, a));
+        change = std::max(change, pushPull(child, {}, a, largestReflected));
       } else {
         // A root element takes what arrived on the lobes as it faces.
         const Vec3& normal = elements_[child.index].shape.normal;
-        change = std::max(change, pushPull(child, {irradianceOn(a, normal), Rgb{}, Rgb{}}, {}));
+        change = std::max(
+            change, pushPull(child, {irradianceOn(a, normal), Rgb{}, Rgb{}}, {}, largestReflected));
       }
       const Node& c = nodeOf(child);
       radiosity += c.radiosity[0] * area(child);
@@ -488,6 +489,7 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
       change = std::max(change, (e.node.radiosity[k] - b[k]).maxComponent());
     e.node.radiosity = b;
     e.node.maxRadiosity = upperBound(b, e.basis.reach());
+    largestReflected = std::max(largestReflected, (b[0] - e.node.emission).maxComponent());
     return change;
   }
   const int first = e.firstChild;
@@ -496,7 +498,8 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
   LinearRgb pulled{};
   for (int c = first; c < first + 4; ++c) {
     const BasisTransfer& t = elements_[c].fromParent;
-    change = std::max(change, pushPull({NodeRef::kElement, c}, restrictedToChild(a, t), {}));
+    change = std::max(
+        change, pushPull({NodeRef::kElement, c}, restrictedToChild(a, t), {}, largestReflected));
     const GElement& child = elements_[c];
     addProjectionToParent(pulled, child.node.radiosity, t, child.area / parentArea);
     maxRadiosity = std::max(maxRadiosity, child.node.maxRadiosity);

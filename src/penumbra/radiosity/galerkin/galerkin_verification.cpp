@@ -114,6 +114,7 @@ std::string GalerkinRadiosity::verifyLinks() const {
       stack.push_back(c);
     }
   }
+  if (std::string keys = verifyPassKeys(); !keys.empty()) return keys;
   return verifySolveState();
 }
 
@@ -144,6 +145,17 @@ GalerkinRadiosity::PendingRefinement GalerkinRadiosity::pendingRefinement() cons
       ++pending.cleanUps;
   }
   return pending;
+}
+
+std::string GalerkinRadiosity::verifyPassKeys() const {
+  for (size_t i = 0; i < passKeys_.size() && i < links_.size(); ++i) {
+    if (passKeyStale_[i]) continue;
+    const PassKey fresh = passKeyOf(links_[i]), &kept = passKeys_[i];
+    if (fresh.state != kept.state || !sameBits(fresh.receiverArea, kept.receiverArea) ||
+        !sameBits(fresh.variation, kept.variation) || !(fresh.source == kept.source))
+      return "pair " + std::to_string(i) + ": the refinement pass's key is not the pair's";
+  }
+  return {};
 }
 
 }  // namespace penumbra
