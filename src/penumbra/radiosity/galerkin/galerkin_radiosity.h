@@ -262,26 +262,29 @@ class GalerkinRadiosity {
   const GalerkinStats& stats() const;
 
   // What the solver holds per element and per cluster (public for tests).
+  // The fields each Jacobi iteration reads and writes come first, together: push-pull visits
+  // every node in every iteration, and an element is ~900 bytes (measured on the furnished
+  // room's updates, one thread, three runs in turns: 37.7 -> 35.7 ms median).
   struct Node {
     Rgb emission;                // M (area mean for a cluster)
     LinearRgb gatheredDirect{};  // over the node's own links (the indirect: in the solve's state)
+    LinearRgb radiosity{};       // B (a cluster: its area mean in [0])
+    double maxRadiosity = 0;     // a bound on B over the leaves below
+    double maxReflectance = 0;   // the largest reflectance below
     LinearRgb irradianceDirect{}, irradianceIndirect{};  // with what ancestors pushed down
-    LinearRgb radiosity{};                               // B (a cluster: its area mean in [0])
-    double maxRadiosity = 0;                             // a bound on B over the leaves below
-    double maxReflectance = 0;                           // the largest reflectance below
   };
   struct GElement {
-    ElementShape shape;
-    LinearBasis basis;
-    BasisTransfer fromParent{};  // the parent's basis over this element (push and pull)
-    Cubature cubature;           // where links sample it (linkCubature), kept: links read it often
-    std::array<std::array<double, 3>, 4> cubatureBasis{};  // the basis at those points
-    PolygonId polygon = 0;
-    int parent = -1;
     int firstChild = -1;
     double area = 0;
     Rgb reflectance;
+    BasisTransfer fromParent{};  // the parent's basis over this element (push and pull)
     Node node;
+    LinearBasis basis;
+    ElementShape shape;
+    Cubature cubature;  // where links sample it (linkCubature), kept: links read it often
+    std::array<std::array<double, 3>, 4> cubatureBasis{};  // the basis at those points
+    PolygonId polygon = 0;
+    int parent = -1;
     // How much of it a polygon in face-to-face contact covers (face_contacts.h), judged at its
     // link cubature points and centroid: a covered point sees only the covering polygon.
     enum Cover : std::uint8_t { kExposed, kPartlyCovered, kCovered };
