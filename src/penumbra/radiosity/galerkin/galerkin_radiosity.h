@@ -488,6 +488,11 @@ class GalerkinRadiosity {
   std::vector<PolygonId> lastMovedIds_;
   MovedPart movedPart(const Move& move, NodeRef r, NodeRef s, const MovedPart& parentPart,
                       bool before) const;
+  // The moved part after the move of a pair whose candidates were just filtered from its
+  // parent's (`own`): the moved polygons among them. movedPart(…, false) gives the same, from
+  // the same shaft tests, which `own` has made already.
+  static MovedPart movedAmong(const Move& move, const std::vector<PolygonId>& own,
+                              const MovedPart& parentPart);
   // A kept pair's candidates at the new pose: its old ones without the moved polygons, merged
   // in order with the moved ones it has now (movedPart), as a fresh filtering gives them.
   static std::vector<PolygonId> withMovedPolygons(const Move& move,

@@ -247,6 +247,22 @@ GalerkinRadiosity::MovedPart GalerkinRadiosity::movedPart(const Move& move, Node
   return std::make_shared<const std::vector<std::uint32_t>>(std::move(part));
 }
 
+GalerkinRadiosity::MovedPart GalerkinRadiosity::movedAmong(const Move& move,
+                                                           const std::vector<PolygonId>& own,
+                                                           const MovedPart& parentPart) {
+  // Both ascending: a merge.
+  std::vector<std::uint32_t> part;
+  size_t k = 0;
+  for (PolygonId id : own) {
+    if (!move.movedPolygon[id]) continue;
+    while (move.movedIds[k] < id) ++k;
+    part.push_back(std::uint32_t(k));
+  }
+  // All of the parent's: its block, shared, as movedPart returns it.
+  if (part.size() == parentPart->size()) return parentPart;
+  return std::make_shared<const std::vector<std::uint32_t>>(std::move(part));
+}
+
 std::vector<PolygonId> GalerkinRadiosity::withMovedPolygons(
     const Move& move, const std::vector<PolygonId>& old,
     const std::vector<std::uint32_t>& movedNow) {
@@ -368,10 +384,11 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
                 ? last->second
                 : movedPart(move, link.receiver, link.source, met[m].movedBefore, true);
       }
-      out.movedAfter = movedPart(move, link.receiver, link.source, met[m].movedAfter, false);
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
       out.wasEstimated = estimated;
+      // Filtered from the parent's list below, which gives its moved part after the move too.
       if (!kept(m) || !estimated) return;  // kFilter
+      out.movedAfter = movedPart(move, link.receiver, link.source, met[m].movedAfter, false);
       if (link.candidates) {
         out.making = Making::kEdit;
         return;
@@ -404,6 +421,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       switch (out.making) {
         case Making::kFilter:
           out.own = shared(shaftCandidates(link.receiver, link.source, *inherited), inherited);
+          if (!out.movedAfter) out.movedAfter = movedAmong(move, *out.own, met[m].movedAfter);
           break;
         case Making::kEdit: {
           std::vector<PolygonId> edited =
