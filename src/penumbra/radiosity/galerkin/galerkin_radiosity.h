@@ -570,6 +570,8 @@ class GalerkinRadiosity {
   // Jacobi iterations until the largest change of B < convergence x the largest reflected B;
   // `fromPrevious`: starting from a solution near this one (an update), carrying only what
   // changed: the links changed since the last solve, then the sources that changed.
+  // The irradiance the queries read is stored once the solution is final (storeIrradiance),
+  // by build and update, not by each solve.
   void solve(double convergence, bool fromPrevious = false);
   // What a solve leaves for the next (galerkin_solve.cpp): which links carry light, by source,
   // and the sums they made. Valid from a solve until a compaction renumbers pairs or elements.

@@ -348,7 +348,6 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
       break;
     }
   }
-  storeIrradiance({NodeRef::kCluster, 0}, {}, {}, {}, {});
 }
 
 std::string GalerkinRadiosity::verifySolveState() const {
