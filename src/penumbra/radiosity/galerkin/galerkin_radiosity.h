@@ -574,7 +574,8 @@ class GalerkinRadiosity {
   // by build and update, not by each solve.
   void solve(double convergence, bool fromPrevious = false);
   // What a solve leaves for the next (galerkin_solve.cpp): which links carry light, by source,
-  // and the sums they made. Valid from a solve until a compaction renumbers pairs or elements.
+  // and the sums they made. Valid from a solve on; a compaction renumbers it with the pairs and
+  // elements (renumberSolveState…).
   struct SolveState;
   std::unique_ptr<SolveState> solveState_;
   // The pairs whose state or coefficients changed since the last solve (while its state is
@@ -586,6 +587,10 @@ class GalerkinRadiosity {
   // link.
   void beforeChange(int pair);
   void invalidateSolveState();
+  // After a compaction: `newIndex` maps each old pair (element) to its new place, -1 where it
+  // was dropped (merged away, then with nothing carried to or from it but rounding residue).
+  void renumberSolveStatePairs(const std::vector<int>& newIndex, size_t pairCount);
+  void renumberSolveStateElements(const std::vector<int>& newIndex, size_t elementCount);
   std::size_t solveStateBytes() const;
   // Checks the state against the pairs (the links it holds are the active ones, as stored, but
   // for the pairs noted as changed) and its sums against the sums made again from what it says

@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <type_traits>
 
 #include "penumbra/base/input_error.h"
 #include "penumbra/base/parallel_for.h"
@@ -233,8 +234,6 @@ void GalerkinRadiosity::shapeChild(const GElement& parent, const std::array<Vec3
 }
 
 void GalerkinRadiosity::compactPairs() {
-  invalidateSolveState();  // it names pairs by their places
-  dropPassKeys();          // so do they
   // Breadth first from the root pair, each pair's children placed together: the order keeps
   // children contiguous and parents before their children, as refinement makes them.
   std::vector<int> order{0}, newIndex(links_.size(), -1);
@@ -256,9 +255,28 @@ void GalerkinRadiosity::compactPairs() {
   }
   links_ = std::move(compact);
   droppedPairs_ = 0;
-  lastMovedAfter_.clear();  // it names pairs by their places
-  lastEnds_.clear();
-  lastEndsOf_.clear();
+  // What names pairs by their places, renamed: the solve's sums, and what the last update's
+  // walk kept for the next.
+  renumberSolveStatePairs(newIndex, links_.size());
+  if (!passKeys_.empty()) {
+    std::vector<PassKey> keys(links_.size());
+    std::vector<char> stale(links_.size(), 1);  // pairs appended since their last pass
+    for (size_t i = 0; i < passKeys_.size(); ++i)
+      if (newIndex[i] >= 0) {
+        keys[size_t(newIndex[i])] = passKeys_[i];
+        stale[size_t(newIndex[i])] = passKeyStale_[i];
+      }
+    passKeys_ = std::move(keys);
+    passKeyStale_ = std::move(stale);
+  }
+  const auto renamed = [&](auto& byPair) {
+    std::remove_reference_t<decltype(byPair)> kept;
+    for (auto& [pair, value] : byPair)
+      if (newIndex[size_t(pair)] >= 0) kept.emplace(newIndex[size_t(pair)], std::move(value));
+    byPair = std::move(kept);
+  };
+  renamed(lastMovedAfter_);
+  renamed(lastEndsOf_);
   shaftHolders_.clear();  // renumbered: the pairs holding lists named again
   if (managed())
     for (size_t i = 1; i < links_.size(); ++i)
@@ -266,8 +284,6 @@ void GalerkinRadiosity::compactPairs() {
 }
 
 long long GalerkinRadiosity::compactElements() {
-  invalidateSolveState();  // it names elements by their places
-  dropPassKeys();          // so do they
   // Which elements a pair names; an element's split is kept while its subtree holds one.
   std::vector<char> needed(elements_.size(), 0);
   for (const GLink& link : links_) {
@@ -301,6 +317,7 @@ long long GalerkinRadiosity::compactElements() {
     if (reachable[e]) newIndex[e] = count++;
   const long long released = (long long)elements_.size() - count;
   if (released == 0) return 0;
+  renumberSolveStateElements(newIndex, size_t(count));
   std::vector<GElement> compact;
   compact.reserve(size_t(count));
   for (size_t e = 0; e < elements_.size(); ++e) {
@@ -318,6 +335,7 @@ long long GalerkinRadiosity::compactElements() {
     renumber(link.receiver);
     renumber(link.source);
   }
+  for (PassKey& key : passKeys_) renumber(key.source);
   for (std::vector<int>& roots : polygonRoots_)
     for (int& root : roots) root = newIndex[root];
   for (int& root : rootOrder_) root = newIndex[root];

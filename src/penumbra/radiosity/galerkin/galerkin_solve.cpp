@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "penumbra/base/check.h"
 #include "penumbra/radiosity/galerkin/axis_lobes.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 
@@ -185,6 +186,74 @@ void GalerkinRadiosity::beforeChange(int pair) {
   if (pairChanged_[size_t(pair)]) return;
   pairChanged_[size_t(pair)] = 1;
   changedPairs_.push_back(pair);
+}
+
+void GalerkinRadiosity::renumberSolveStatePairs(const std::vector<int>& newIndex,
+                                                size_t pairCount) {
+  // The pairs changed since the last solve, renamed (a dropped one carries nothing any more).
+  std::vector<int> changed;
+  for (int pair : changedPairs_)
+    if (newIndex[size_t(pair)] >= 0) changed.push_back(newIndex[size_t(pair)]);
+  changedPairs_ = std::move(changed);
+  pairChanged_.assign(pairCount, 0);
+  for (int pair : changedPairs_) pairChanged_[size_t(pair)] = 1;
+  if (!solveState_ || !solveState_->valid) return;
+  SolveState& state = *solveState_;
+  std::vector<std::int32_t> carriedAt(pairCount, SolveState::kNotCarried);
+  for (size_t i = 0; i < state.carriedAt.size(); ++i)
+    if (state.carriedAt[i] != SolveState::kNotCarried) {
+      // A carried pair is a link, and a compaction keeps every link.
+      CHECK_GE(newIndex[i], 0);
+      carriedAt[size_t(newIndex[i])] = state.carriedAt[i];
+    }
+  state.carriedAt = std::move(carriedAt);
+  for (auto* lists : {&state.fromElement, &state.fromCluster})
+    for (auto& list : *lists)
+      for (SolveState::Carried& link : list) link.pair = newIndex[size_t(link.pair)];
+}
+
+void GalerkinRadiosity::renumberSolveStateElements(const std::vector<int>& newIndex,
+                                                   size_t elementCount) {
+  if (!solveState_ || !solveState_->valid) return;
+  SolveState& state = *solveState_;
+  const auto renumber = [&](NodeRef& n) {
+    if (n.isElement()) n.index = newIndex[size_t(n.index)];
+  };
+  // Elements split after the last solve have no sums yet (the next solve adds them).
+  const size_t known = state.sent.size();
+  std::vector<LinearRgb> sent(std::min(known, elementCount)), gathered(sent.size());
+  std::vector<Rgb> emission(sent.size());
+  std::vector<std::vector<SolveState::Carried>> fromElement(sent.size());
+  size_t kept = 0;
+  for (size_t e = 0; e < known; ++e) {
+    if (newIndex[e] < 0) {
+      // Merged away: no pair names it, so it carries nothing (what it gathered is residue).
+      CHECK(state.fromElement[e].empty());
+      continue;
+    }
+    // Renumbering keeps the order, so the elements known to the state come first still.
+    const size_t to = size_t(newIndex[e]);
+    CHECK_EQ(to, kept);
+    sent[to] = state.sent[e];
+    gathered[to] = state.gathered[e];
+    emission[to] = state.emission[e];
+    fromElement[to] = std::move(state.fromElement[e]);
+    ++kept;
+  }
+  sent.resize(kept);
+  gathered.resize(kept);
+  emission.resize(kept);
+  fromElement.resize(kept);
+  state.sent = std::move(sent);
+  state.gathered = std::move(gathered);
+  state.emission = std::move(emission);
+  state.fromElement = std::move(fromElement);
+  for (auto* lists : {&state.fromElement, &state.fromCluster})
+    for (auto& list : *lists)
+      for (SolveState::Carried& link : list) {
+        renumber(link.receiver);
+        renumber(link.source);
+      }
 }
 
 void GalerkinRadiosity::invalidateSolveState() {
