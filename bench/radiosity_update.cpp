@@ -3,8 +3,13 @@
 // with the update's stages, what it touched, and verifyLinks() after every step (outside the
 // timings). The keyframes are walked forward and back `--repeat` times; times are medians.
 //
-// Usage: radiosity_update [--repeat N] [--tolerance T] [--updates-only] [--random-moves N]
-//                         [--shafts all|managed]
+// `--back-to-back`: the walk's updates run one after the other, nothing between them (as an
+// interactive session runs them; interleaved with fresh builds, each update starts with caches
+// the build has filled with its own data), and then, in the same run, fresh builds at each
+// keyframe; the last update is verified.
+//
+// Usage: radiosity_update [--repeat N] [--tolerance T] [--updates-only | --back-to-back]
+//                         [--random-moves N] [--shafts all|managed]
 //                         [SCENE...]  (default: the
 // furnished room, the chair room, the Cornell box)
 
@@ -35,7 +40,7 @@ struct StepFigures {
 
 // Returns how many steps failed verification.
 int benchScene(const std::string& path, int repeat, double tolerance, bool updatesOnly,
-               ShaftPolicy shafts) {
+               bool backToBack, ShaftPolicy shafts) {
   const Scene scene = loadScene(path);
   GalerkinOptions options;
   options.tolerance = tolerance;
@@ -86,7 +91,7 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
     s.links = solver.stats().activeLinks;
     if (u.rebuilt) std::printf("  step %d->%d rebuilt: %s\n", from, to, u.rebuildReason);
     from = to;
-    if (updatesOnly) continue;
+    if (updatesOnly || backToBack) continue;
     const std::string difference = solver.verifyLinks();
     if (!difference.empty()) {
       ++failures;
@@ -95,6 +100,22 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
     GalerkinRadiosity fresh(options);
     fresh.build(live);
     s.full.push_back(fresh.stats().totalSeconds);
+  }
+  if (backToBack) {
+    const std::string difference = solver.verifyLinks();
+    if (!difference.empty()) {
+      ++failures;
+      std::printf("  the last update: VERIFICATION FAILED: %s\n", difference.c_str());
+    }
+    std::vector<std::vector<double>> fullAt(size_t(scene.frames));
+    for (int r = 0; r < repeat; ++r)
+      for (int f = 0; f < scene.frames; ++f) {
+        const DynamicScene at(scene, f);
+        GalerkinRadiosity fresh(options);
+        fresh.build(at);
+        fullAt[size_t(f)].push_back(fresh.stats().totalSeconds);
+      }
+    for (auto& [key, s] : steps) s.full = fullAt[size_t(key.second)];
   }
   std::printf("  %-7s %9s %9s %9s %9s %9s %9s %9s %7s %7s %7s %7s %8s %7s\n", "step", "update",
               "repose", "traverse", "(walk)", "refine", "solve", "full", "ratio", "met", "ends",
@@ -130,7 +151,11 @@ int benchScene(const std::string& path, int repeat, double tolerance, bool updat
       "  median over steps: update %.1f ms (traversal %.1f ms, of it the walk %.2f ms), full "
       "%.0f ms: %.1fx; verification %s\n",
       1e3 * median(updates), 1e3 * median(traverses), 1e3 * median(walks), 1e3 * median(fulls),
-      median(fulls) / median(updates), failures ? "FAILED" : "identical at every step");
+      median(fulls) / median(updates),
+      updatesOnly  ? "not run"
+      : failures   ? "FAILED"
+      : backToBack ? "identical after the last update"
+                   : "identical at every step");
   return failures;
 }
 
@@ -209,6 +234,7 @@ int randomMoves(const std::string& path, int moves, double tolerance, ShaftPolic
 int main(int argc, char** argv) {
   int repeat = 3;
   bool updatesOnly = false;  // no fresh builds and no verification (for profiling the update)
+  bool backToBack = false;   // the updates one after the other, the fresh builds after them
   int moves = 0;             // --random-moves N: the random walk instead of the keyframes
   double tolerance = GalerkinOptions{}.tolerance;
   ShaftPolicy shafts = GalerkinOptions{}.shafts;
@@ -223,6 +249,8 @@ int main(int argc, char** argv) {
       shafts = std::string(argv[++i]) == "all" ? ShaftPolicy::kAll : ShaftPolicy::kManaged;
     else if (arg == "--updates-only")
       updatesOnly = true;
+    else if (arg == "--back-to-back")
+      backToBack = true;
     else if (arg == "--tolerance" && i + 1 < argc)
       tolerance = std::atof(argv[++i]);
     else
@@ -235,6 +263,7 @@ int main(int argc, char** argv) {
   int failures = 0;
   for (const std::string& scene : scenes)
     failures += moves > 0 ? randomMoves(scene, moves, tolerance, shafts)
-                          : benchScene(scene, repeat, tolerance, updatesOnly, shafts);
+                          : benchScene(scene, repeat, tolerance, updatesOnly && !backToBack,
+                                       backToBack, shafts);
   return failures ? 1 : 0;
 }
