@@ -399,8 +399,8 @@ class GalerkinRadiosity {
   };
   std::vector<PassKey> passKeys_;
   std::vector<char> passKeyStale_;  // per pair: changed since its key was made
-  // Makes the stale keys and those of pairs appended since, up to links_.size().
-  void refreshPassKeys();
+  // A pair's key, made again first if it is stale.
+  const PassKey& passKey(int pair);
   void dropPassKeys() {
     passKeys_.clear();
     passKeyStale_.clear();

@@ -59,19 +59,12 @@ GalerkinRadiosity::PassKey GalerkinRadiosity::passKeyOf(const GLink& link) const
   return key;
 }
 
-void GalerkinRadiosity::refreshPassKeys() {
-  const size_t known = passKeys_.size();
-  passKeys_.resize(links_.size());
-  passKeyStale_.resize(links_.size(), 0);
-  for (size_t i = 0; i < known; ++i)
-    if (passKeyStale_[i]) {
-      passKeys_[i] = passKeyOf(links_[i]);
-      passKeyStale_[i] = 0;
-    }
-  for (size_t i = known; i < links_.size(); ++i) {
-    passKeys_[i] = passKeyOf(links_[i]);
-    passKeyStale_[i] = 0;
+const GalerkinRadiosity::PassKey& GalerkinRadiosity::passKey(int pair) {
+  if (passKeyStale_[size_t(pair)]) {
+    passKeys_[size_t(pair)] = passKeyOf(links_[size_t(pair)]);
+    passKeyStale_[size_t(pair)] = 0;
   }
+  return passKeys_[size_t(pair)];
 }
 
 double GalerkinRadiosity::oracleOf(NodeRef r, NodeRef s, const Estimate& e) const {
@@ -446,18 +439,16 @@ GalerkinRadiosity::PassOutcome GalerkinRadiosity::refinementPass(Counters& count
   // One scan in storage order, where a pair comes before its descendants: a cleaned-up pair's
   // subtree is dropped before the scan reaches it, and the splits are refined after the scan, so
   // the outcome is that of a clean-up scan followed by a split scan.
-  // The scan reads the pairs' keys (PassKey); a pair the scan itself changes (a cleaned-up
-  // pair's dropped subtree) is marked stale and read from its record.
+  // The scan reads the pairs' keys (PassKey), each made again where its pair changed since, the
+  // scan's own changes included (a cleaned-up pair's dropped subtree). Pairs appended since the
+  // last pass have no key yet: stale.
   PassOutcome outcome;
   std::vector<RefineTask> wave;
-  refreshPassKeys();
   const int count = int(links_.size());
+  passKeys_.resize(size_t(count));
+  passKeyStale_.resize(size_t(count), 1);
   for (int i = 0; i < count; ++i) {
-    if (passKeyStale_[size_t(i)]) {
-      passKeys_[size_t(i)] = passKeyOf(links_[size_t(i)]);
-      passKeyStale_[size_t(i)] = 0;
-    }
-    const PassKey& key = passKeys_[size_t(i)];
+    const PassKey& key = passKey(i);
     if (key.state == GLink::kPassive && cleanUpBelow >= 0) {
       if (oracleOf(key) > cleanUpBelow) continue;
       outcome.dropped += dropChildren(i);
