@@ -112,8 +112,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   stats_.solveSeconds += settling.solveSeconds;
   stats_.passes = 1 + settling.passes();
   stats_.settled = settling.settled;
-  // Before a compaction, which renumbers the elements the solve's sums are kept by.
-  storeIrradiance({NodeRef::kCluster, 0}, {}, {}, {}, {});
+  storeIrradiance();
   if (settling.dropped > 0) {
     compactPairs();
     compactElements();

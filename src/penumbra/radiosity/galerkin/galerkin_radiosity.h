@@ -608,6 +608,9 @@ class GalerkinRadiosity {
   // (Node::irradianceDirect, irradianceIndirect), for the queries of the solution.
   void storeIrradiance(NodeRef n, const LinearRgb& direct, const LinearRgb& indirect,
                        const AxisLobes& directLobes, const AxisLobes& indirectLobes);
+  // From the root, once the solution is final (before a compaction renumbers the elements the
+  // solve's sums are kept by).
+  void storeIrradiance() { storeIrradiance({NodeRef::kCluster, 0}, {}, {}, {}, {}); }
   std::optional<int> leafContaining(const Vec3& point, const Vec3& normal) const;
   // Is x, a point of `polygon`, covered by a polygon in face-to-face contact with it?
   bool isCovered(PolygonId polygon, const Vec3& x) const;

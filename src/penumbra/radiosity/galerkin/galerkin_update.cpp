@@ -623,7 +623,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
       lastUpdate_.solveSeconds = stage.lap();
       recordPasses(settle(counters), 1);
       lastUpdate_.laterSplits = (long long)(links_.size() - count);
-      storeIrradiance({NodeRef::kCluster, 0}, {}, {}, {}, {});  // before a compaction
+      storeIrradiance();
       compactIfWorthIt();
       stats_.pointPairs = counters.pointPairs;
       stats_.visibilityRays = counters.visibilityRays;
@@ -671,7 +671,7 @@ void GalerkinRadiosity::update(const DynamicScene& scene, const SceneChange& cha
   const Settling settling = settle(counters, change.movesLight());
   lastUpdate_.laterSplits += settling.added;
   recordPasses(settling, 0);
-  storeIrradiance({NodeRef::kCluster, 0}, {}, {}, {}, {});  // before a compaction
+  storeIrradiance();
   compactIfWorthIt();
   stats_.pointPairs = counters.pointPairs;
   stats_.visibilityRays = counters.visibilityRays;
