@@ -87,6 +87,7 @@ nlohmann::json updateJson(const GalerkinUpdateStats& u) {
                       {"shaft_tests", u.shaftTests},
                       {"links_met", u.met},
                       {"end_moved", u.endMoved},
+                      {"cover_only", u.coverOnly},
                       {"reestimated", u.reestimated},
                       {"reused_visibility", u.reusedVisibility},
                       {"refined", u.refined},

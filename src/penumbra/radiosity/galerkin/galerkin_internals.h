@@ -46,13 +46,22 @@ struct GalerkinRadiosity::VisibilityReuse {
   std::uint16_t hiddenPairs = 0;
   bool everyRay = false;
   const std::vector<Box3>* movedBoxes = nullptr;
+  // The point pairs (bit 4i + j, as hiddenPairs) whose two points are as covered as they were:
+  // where an end's cover changed, a point that was or is now covered had no ray or needs one.
+  std::uint16_t sameCover = 0xFFFF;
   // The pair's end terms from its last estimate, if kept (GalerkinRadiosity::lastEnds_).
   const EndTerms* ends = nullptr;
 };
 
 // What a move changed, for the line-space update's walk.
 struct GalerkinRadiosity::Move {
-  std::vector<char> elementChanged, clusterChanged;  // re-posed, re-covered, refitted
+  // Per element, what the move changed of it: its shape (re-posed), or only which of its points
+  // a polygon in contact covers (re-covered: its bounds, and so its pairs' shafts and occluder
+  // candidates, are as they were). Per cluster: whether it was refitted.
+  enum ElementChange : char { kUnchanged, kReposed, kRecovered };
+  std::vector<char> elementChanged, clusterChanged;
+  // The covered points (GElement::coveredPoints) before the move of each re-covered element.
+  std::unordered_map<int, std::uint8_t> coveredPointsBefore;
   std::vector<char> movedPolygon;
   std::vector<Box3> boxes;  // the moved objects' boxes before and after, grown (in that order)
   // The bounds at the last pose of what the move changed (the shafts the pairs' old candidates
@@ -70,8 +79,19 @@ struct GalerkinRadiosity::Move {
   std::vector<std::uint32_t> blockOf;  // per moved polygon
   std::vector<Box3> blockBoundsBefore, blockBoundsAfter;
   std::shared_ptr<const std::vector<std::uint32_t>> everyMoved;  // the root's moved part
+  // Did what a pair's estimate reads of this end change?
   bool endChanged(NodeRef n) const {
-    return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != 0;
+    return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] != kUnchanged;
+  }
+  // Did its bounds change (and with them the shafts of its pairs)?
+  bool boundsChanged(NodeRef n) const {
+    return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] == kReposed;
+  }
+  // Which of an element end's points (bit i: cubature point i) changed cover.
+  std::uint8_t coverFlipped(NodeRef n, std::uint8_t coveredNow) const {
+    if (n.isCluster()) return 0;
+    const auto before = coveredPointsBefore.find(n.index);
+    return before == coveredPointsBefore.end() ? 0 : std::uint8_t(before->second ^ coveredNow);
   }
 };
 

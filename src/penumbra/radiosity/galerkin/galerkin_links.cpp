@@ -253,7 +253,8 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
             return std::none_of(reuse->movedBoxes->begin(), reuse->movedBoxes->end(),
                                 [&](const Box3& box) { return box.meetsSegment(a, b); });
           };
-          if (reuse && reuse->everyRay == testEveryRay && missesMoved()) {
+          if (reuse && reuse->everyRay == testEveryRay && (reuse->sameCover & bit) &&
+              missesMoved()) {
             hidden = (reuse->hiddenPairs & bit) != 0;
             ++counters.reusedRays;
           } else {

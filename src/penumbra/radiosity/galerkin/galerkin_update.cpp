@@ -12,11 +12,16 @@
 // monotone in the box and a child's ends lie inside its parent's, so below a pair that is not
 // met nothing is: the walk stops there. verifyLinks() checks it all.
 //
-// A met pair whose ends and inherited static candidates are as they were needs of its own
-// candidates only what changed, the moved polygons among them: those are filtered down the walk
-// from the root on their own (a few ids per pair), so such a pair edits its kept list, or, when
-// it kept none (ShaftPolicy::kManaged), corrects its kept count, which is all an estimate reads
-// of more than kMostBoxesTested candidates (galerkin_shafts.cpp).
+// A met pair whose ends' bounds and inherited static candidates are as they were needs of its own
+// candidates only what changed, the moved polygons among them (an end whose cover alone changed,
+// a floor element under a moved chair's feet, keeps its bounds and so the pair's shaft): those are
+// filtered down the walk from the root on their own (a few ids per pair), so such a pair edits its
+// kept list, or, when it kept none (ShaftPolicy::kManaged), corrects its kept count, which is all
+// an estimate reads of more than kMostBoxesTested candidates (galerkin_shafts.cpp). Its point
+// pairs' stored answers hold where their segments miss every moved box (a ray reads only what its
+// segment may meet, and whether one is cast reads the candidates, changed only in moved polygons),
+// except where a point changed cover: a covered point carries nothing, so its pairs stored no
+// answer, and the gap a face contact allows may exceed the moved boxes' margin.
 
 #include <algorithm>
 #include <memory>
@@ -68,7 +73,7 @@ bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change, Move& move
     for (int c = 0; c < 4; ++c) {
       remember(first + c);
       shapeChild(elements_[index], childVertices[c], elements_[first + c]);
-      elementChanged[first + c] = 1;
+      elementChanged[first + c] = Move::kReposed;
       ++lastUpdate_.movedElements;
       self(self, first + c);
     }
@@ -87,7 +92,7 @@ bool GalerkinRadiosity::reposeMovedObjects(const SceneChange& change, Move& move
         e.shape = roots[k];
         prepare(e);
         e.area = roots[k].area;
-        elementChanged[ids[k]] = 1;
+        elementChanged[ids[k]] = Move::kReposed;
         ++lastUpdate_.movedElements;
         reposeBelow(reposeBelow, ids[k]);
       }
@@ -196,7 +201,10 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
       e.coveredPoints = coveredPointsOf(e);
       if (cover != before || e.coveredPoints != pointsBefore) {
         ++lastUpdate_.coverChanged;
-        move.elementChanged[index] = 1;
+        if (move.elementChanged[index] == Move::kUnchanged) {
+          move.elementChanged[index] = Move::kRecovered;
+          move.coveredPointsBefore.emplace(index, pointsBefore);
+        }
       }
       if (e.firstChild >= 0)
         for (int c = 0; c < 4; ++c) self(self, e.firstChild + c);
@@ -353,11 +361,21 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
         continue;
       }
       ++lastUpdate_.shaftTests;
-      const Shaft shaft(bounds(link.receiver), bounds(link.source));
+      // The shaft's first test is its hull, the two ends' union: most pairs a walk visits miss
+      // the moved boxes there, and then the shaft's planes need not be made.
+      const Box3 receiverBounds = bounds(link.receiver), sourceBounds = bounds(link.source);
+      Box3 hull = receiverBounds;
+      hull.extend(sourceBounds);
+      bool inHull = false;
+      for (size_t m = 0; m < 2 * movedObjects && !inHull; ++m)
+        inHull = hull.overlaps(move.boxes[m]);
       bool atOld = false, atNew = false;
-      for (size_t m = 0; m < movedObjects; ++m) {
-        atOld = atOld || shaft.mayIntersect(move.boxes[2 * m]);
-        atNew = atNew || shaft.mayIntersect(move.boxes[2 * m + 1]);
+      if (inHull) {
+        const Shaft shaft(receiverBounds, sourceBounds);
+        for (size_t m = 0; m < movedObjects; ++m) {
+          atOld = atOld || shaft.mayIntersect(move.boxes[2 * m]);
+          atNew = atNew || shaft.mayIntersect(move.boxes[2 * m + 1]);
+        }
       }
       lastUpdate_.shaftsAtOld += atOld;
       lastUpdate_.shaftsAtNew += atNew;
@@ -365,10 +383,12 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
     }
     lastUpdate_.walkSeconds += walk.lap();
     std::vector<Outcome> outcomes(met.size());
+    // Its shaft, and so its static candidates, as they were (an end that was only re-covered
+    // keeps its bounds).
     const auto kept = [&](size_t m) {
       const GLink& link = links_[met[m].pair];
-      return !met[m].inheritedChanged && !move.endChanged(link.receiver) &&
-             !move.endChanged(link.source);
+      return !met[m].inheritedChanged && !move.boundsChanged(link.receiver) &&
+             !move.boundsChanged(link.source);
     };
     // The moved parts, and how each pair's candidates will be made (cheap: a few ids each).
     parallelFor((long long)met.size(), options_.threads, [&](long long m) {
@@ -408,7 +428,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       if (filters || (outcomes[m].exchanges && !kept(m) && link.state == GLink::kPassive &&
                       !link.candidates && !met[m].inheritedBefore))
         candidatesFor(link.parent);
-      if (filters && (move.endChanged(link.receiver) || move.endChanged(link.source)))
+      if (filters && (move.boundsChanged(link.receiver) || move.boundsChanged(link.source)))
         links_[link.parent].feedsMovedEnd = true;
     }
     lastUpdate_.shaftsMade += listsMade_ - madeBefore;
@@ -443,9 +463,22 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
                                move, link.receiver, link.source,
                                met[m].inheritedBefore ? *met[m].inheritedBefore : *inherited));
       const bool estimated = link.state == GLink::kActive || link.state == GLink::kPassive;
-      const auto last = lastEndsOf_.find(met[m].pair);
+      // The end terms read the ends' covers; the stored answers hold for the point pairs whose
+      // points kept theirs.
+      const bool endsAsBefore = !move.endChanged(link.receiver) && !move.endChanged(link.source);
+      const auto last = endsAsBefore ? lastEndsOf_.find(met[m].pair) : lastEndsOf_.end();
+      const std::uint8_t flippedRows = move.coverFlipped(
+          link.receiver,
+          link.receiver.isElement() ? elements_[link.receiver.index].coveredPoints : 0);
+      const std::uint8_t flippedColumns = move.coverFlipped(
+          link.source, link.source.isElement() ? elements_[link.source.index].coveredPoints : 0);
+      std::uint16_t sameCover = 0xFFFF;
+      for (int k = 0; k < 4; ++k) {
+        if ((flippedRows >> k) & 1u) sameCover &= std::uint16_t(~(0xFu << (4 * k)));
+        if ((flippedColumns >> k) & 1u) sameCover &= std::uint16_t(~(0x1111u << k));
+      }
       const VisibilityReuse reuse{
-          link.hiddenPairs, link.everyRay, &move.boxes,
+          link.hiddenPairs, link.everyRay, &move.boxes, sameCover,
           last != lastEndsOf_.end() ? &lastEnds_[size_t(last->second)] : nullptr};
       out.estimate = estimate(link.receiver, link.source, CandidateView{out.count, out.own.get()},
                               out.counters, kept(m) && estimated ? &reuse : nullptr);
@@ -490,6 +523,7 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
         continue;
       }
       ++lastUpdate_.reestimated;
+      if (kept(m) && (move.endChanged(r) || move.endChanged(s))) ++lastUpdate_.coverOnly;
       switch (out.making) {
         case Making::kFilter:
           // Made again under any policy where an end or the inherited list changed; else
