@@ -167,15 +167,14 @@ struct GalerkinStats {
 struct GalerkinUpdateStats {
   bool rebuilt = false;  // recomputed from scratch instead (the reason below)
   const char* rebuildReason = "";
-  long long movedElements = 0;    // elements re-posed
-  long long coverChanged = 0;     // elements whose contact cover changed
-  long long clustersChanged = 0;  // clusters whose box changed
-  long long shaftTests = 0;       // pairs whose shaft was tested against the moved boxes
-  long long met = 0;              // pairs the move may have changed (shaft or end)
-  long long endMoved = 0;         // of them, pairs with an end (or inherited candidates) changed
-  long long coverOnly = 0;    // of those, estimated with their shaft and candidates as they were
-                              // (an end only re-covered: its bounds as they were)
-  long long reestimated = 0;  // of them, estimated again (the others: a cluster's self pair)
+  long long movedElements = 0;     // elements re-posed
+  long long coverChanged = 0;      // elements whose contact cover changed
+  long long clustersChanged = 0;   // clusters whose box changed
+  long long shaftTests = 0;        // pairs whose shaft was tested against the moved boxes
+  long long met = 0;               // pairs the move may have changed (shaft or end)
+  long long endMoved = 0;          // of them, pairs with an end (or inherited candidates) changed
+  long long coverOnly = 0;         // of those, an end only re-covered: shaft and candidates kept
+  long long reestimated = 0;       // of them, estimated again (the others: a cluster's self pair)
   long long reusedVisibility = 0;  // point pairs whose stored visibility the move left as it was
   long long refined = 0;           // links split because of the move
   long long cleanedUp = 0;         // split pairs made links again, their children dropped
