@@ -162,7 +162,8 @@ int main(int argc, char** argv) {
         continue;
       std::printf("  surface %d (light vertex %d): %zu stored intersections\n", surface.id,
                   surface.lightFeature, surface.intersections.size());
-      for (const DiscontinuitySegment& piece : visibleSegments(surface))
+      for (const DiscontinuitySegment& piece :
+           visibleSegments(surface, engine.posedScene().polygons))
         std::printf("    on %d: (%.6f %.6f %.6f) - (%.6f %.6f %.6f)\n", piece.receiver, piece.p0.x,
                     piece.p0.y, piece.p0.z, piece.p1.x, piece.p1.y, piece.p1.z);
     }
@@ -205,7 +206,8 @@ int main(int argc, char** argv) {
       std::printf("  surface %d kind %d light feature %d second %d: %zu stored intersections\n",
                   surface.id, int(surface.kind), surface.lightFeature, surface.secondFeature,
                   surface.intersections.size());
-      for (const DiscontinuitySegment& piece : visibleSegments(surface))
+      for (const DiscontinuitySegment& piece :
+           visibleSegments(surface, engine.posedScene().polygons))
         std::printf("    on %d: (%.6f %.6f %.6f) - (%.6f %.6f %.6f)\n", piece.receiver, piece.p0.x,
                     piece.p0.y, piece.p0.z, piece.p1.x, piece.p1.y, piece.p1.z);
     }

@@ -63,7 +63,7 @@ TEST(EmitterSurfaces, VisibleSegmentsSatisfyTheirEventDefinition) {
       const Vec3 n = surface.fan.normal();
       EXPECT_LT(std::abs(dot(n, r.p1 - surface.fan.hinge0)), 1e-9 * size);
     }
-    for (const DiscontinuitySegment& segment : visibleSegments(surface)) {
+    for (const DiscontinuitySegment& segment : visibleSegments(surface, scene.polygons)) {
       ++segments;
       const WorldPolygon& receiver = scene.polygons[segment.receiver];
       for (double t : {0.25, 0.5, 0.75}) {

@@ -548,7 +548,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       pieces = std::move(previousVisible[size_t(then)]);
       for (DiscontinuitySegment& segment : pieces) segment.surface = s.id;
     } else {
-      pieces = visibleSegments(s);
+      pieces = visibleSegments(s, posed_->polygons);
     }
     for (const DiscontinuitySegment& segment : pieces) {
       ++stats_.visibleSegments;

@@ -46,7 +46,8 @@ bool isHinge(const DiscontinuitySurface& surface, PolygonId polygon) {
 
 }  // namespace
 
-std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& surface) {
+std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& surface,
+                                                  const std::vector<WorldPolygon>& polygons) {
   const CriticalFan& fan = surface.fan;
   const Vec3 n = fan.normal();
   std::vector<const SurfaceIntersection*> records;
@@ -92,6 +93,7 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
       breaks.end());
 
   std::vector<DiscontinuitySegment> out;
+  std::vector<size_t> previous, current;  // the pieces made or extended by the last interval
   for (size_t k = 0; k + 1 < breaks.size(); ++k) {
     const double u0 = breaks[k], u1 = breaks[k + 1];
     const double mid = 0.5 * (u0 + u1);
@@ -111,21 +113,45 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
         nearestDepth = hit->s;
       }
     }
+    previous.swap(current);
+    current.clear();
     if (blocked || !nearest || nearestDepth <= hinge * (1 + kHingeDepthTolerance)) continue;
-    // The interval's ends lie on the receiver's segment up to rounding: where the line there
-    // misses it by a rounding, its nearest end is meant (choosing an end by comparing critical
-    // parameters picked the far one for an interval 1e-14 wide, and the event on a desk under a
-    // lamp's base shrank to a point).
-    const Vec3 x0 = landing(fan, n, u0, nearest->p0, nearest->p1);
-    const Vec3 x1 = landing(fan, n, u1, nearest->p0, nearest->p1);
-    if (distance(x0, x1) == 0) continue;
-    if (!out.empty() && out.back().receiver == nearest->polygon && out.back().u1 == u0 &&
-        out.back().p1 == x0) {
-      out.back().p1 = x1;  // the same receiver continues: extend the piece
-      out.back().u1 = u1;
-      continue;
+    // The event lands on the nearest polygon, and on every other the line meets there within
+    // the same tolerance, from its front side: coincident polygons (a panel lying flat on the
+    // floor), so that the floor under the panel has the event too (its faces there answer for
+    // the floor's points, which the panel, through them, does not hide). A polygon met from
+    // behind cannot see that light along the line: the event means nothing to its faces.
+    const double landingDepth = nearestDepth * (1 + kHingeDepthTolerance);
+    for (const SurfaceIntersection* r : records) {
+      if (r != nearest) {
+        const auto hit = lineHit(fan, n, mid, r->p0, r->p1);
+        if (!hit || hit->s > landingDepth ||
+            !(dot(polygons[size_t(r->polygon)].plane.normal, fan.source(mid) - hit->point) > 0))
+          continue;
+      }
+      // One piece per polygon and interval (a polygon may hold two cuts through one point).
+      if (std::any_of(current.begin(), current.end(),
+                      [&](size_t i) { return out[i].receiver == r->polygon; }))
+        continue;
+      // The interval's ends lie on the receiver's segment up to rounding: where the line there
+      // misses it by a rounding, its nearest end is meant (choosing an end by comparing critical
+      // parameters picked the far one for an interval 1e-14 wide, and the event on a desk under
+      // a lamp's base shrank to a point).
+      const Vec3 x0 = landing(fan, n, u0, r->p0, r->p1);
+      const Vec3 x1 = landing(fan, n, u1, r->p0, r->p1);
+      if (distance(x0, x1) == 0) continue;
+      const auto continued = std::find_if(previous.begin(), previous.end(), [&](size_t i) {
+        return out[i].receiver == r->polygon && out[i].u1 == u0 && out[i].p1 == x0;
+      });
+      if (continued != previous.end()) {
+        out[*continued].p1 = x1;  // the same receiver continues: extend the piece
+        out[*continued].u1 = u1;
+        current.push_back(*continued);
+        continue;
+      }
+      current.push_back(out.size());
+      out.push_back({surface.id, r->polygon, x0, x1, u0, u1});
     }
-    out.push_back({surface.id, nearest->polygon, x0, x1, u0, u1});
   }
   return out;
 }

@@ -8,6 +8,11 @@
 // This first version decides orders in floating point with a relative tolerance on s at the hinge
 // (a polygon through the hinge, such as a receiver the occluder rests on, terminates the line
 // there). Exact predicates replace it in the complete mesh.
+//
+// An event lands on the first polygon beyond the hinge, and on each other polygon the line meets
+// at that depth (within the same tolerance) from its front side: coincident polygons, such as a
+// panel lying flat on the floor, each hold it (DESIGN.md §5: the panel does not hide the floor's
+// points under it, which then take their values from the floor's faces).
 
 #include <vector>
 
@@ -17,6 +22,8 @@ namespace penumbra {
 
 inline constexpr double kHingeDepthTolerance = 1e-9;
 
-std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& surface);
+// `polygons`: the scene's, by id (which side of a polygon the critical lines arrive on).
+std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& surface,
+                                                  const std::vector<WorldPolygon>& polygons);
 
 }  // namespace penumbra
