@@ -94,6 +94,7 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
 
   std::vector<DiscontinuitySegment> out;
   std::vector<size_t> previous, current;  // the pieces made or extended by the last interval
+  std::vector<std::optional<Hit>> hits(records.size());  // the middle line's, per record
   for (size_t k = 0; k + 1 < breaks.size(); ++k) {
     const double u0 = breaks[k], u1 = breaks[k + 1];
     const double mid = 0.5 * (u0 + u1);
@@ -101,8 +102,9 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
     const SurfaceIntersection* nearest = nullptr;
     double nearestDepth = 0;
     bool blocked = false;
-    for (const SurfaceIntersection* r : records) {
-      const auto hit = lineHit(fan, n, mid, r->p0, r->p1);
+    for (size_t i = 0; i < records.size(); ++i) {
+      const SurfaceIntersection* r = records[i];
+      const auto& hit = hits[i] = lineHit(fan, n, mid, r->p0, r->p1);
       if (!hit) continue;
       if (hit->s > 0 && hit->s < hinge * (1 - kHingeDepthTolerance)) {
         blocked = true;
@@ -122,16 +124,17 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
     // the floor's points, which the panel, through them, does not hide). A polygon met from
     // behind cannot see that light along the line: the event means nothing to its faces.
     const double landingDepth = nearestDepth * (1 + kHingeDepthTolerance);
-    for (const SurfaceIntersection* r : records) {
+    for (size_t i = 0; i < records.size(); ++i) {
+      const SurfaceIntersection* r = records[i];
       if (r != nearest) {
-        const auto hit = lineHit(fan, n, mid, r->p0, r->p1);
+        const std::optional<Hit>& hit = hits[i];
         if (!hit || hit->s > landingDepth ||
             !(dot(polygons[size_t(r->polygon)].plane.normal, fan.source(mid) - hit->point) > 0))
           continue;
       }
       // One piece per polygon and interval (a polygon may hold two cuts through one point).
       if (std::any_of(current.begin(), current.end(),
-                      [&](size_t i) { return out[i].receiver == r->polygon; }))
+                      [&](size_t piece) { return out[piece].receiver == r->polygon; }))
         continue;
       // The interval's ends lie on the receiver's segment up to rounding: where the line there
       // misses it by a rounding, its nearest end is meant (choosing an end by comparing critical
@@ -140,8 +143,8 @@ std::vector<DiscontinuitySegment> visibleSegments(const DiscontinuitySurface& su
       const Vec3 x0 = landing(fan, n, u0, r->p0, r->p1);
       const Vec3 x1 = landing(fan, n, u1, r->p0, r->p1);
       if (distance(x0, x1) == 0) continue;
-      const auto continued = std::find_if(previous.begin(), previous.end(), [&](size_t i) {
-        return out[i].receiver == r->polygon && out[i].u1 == u0 && out[i].p1 == x0;
+      const auto continued = std::find_if(previous.begin(), previous.end(), [&](size_t piece) {
+        return out[piece].receiver == r->polygon && out[piece].u1 == u0 && out[piece].p1 == x0;
       });
       if (continued != previous.end()) {
         out[*continued].p1 = x1;  // the same receiver continues: extend the piece

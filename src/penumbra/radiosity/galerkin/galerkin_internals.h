@@ -60,8 +60,9 @@ struct GalerkinRadiosity::Move {
   // candidates, are as they were). Per cluster: whether it was refitted.
   enum ElementChange : char { kUnchanged, kReposed, kRecovered };
   std::vector<char> elementChanged, clusterChanged;
-  // The covered points (GElement::coveredPoints) before the move of each re-covered element.
-  std::unordered_map<int, std::uint8_t> coveredPointsBefore;
+  // Which points (bit i: cubature point i, as GElement::coveredPoints) of each re-covered
+  // element changed cover.
+  std::unordered_map<int, std::uint8_t> coverFlipped;
   std::vector<char> movedPolygon;
   std::vector<Box3> boxes;  // the moved objects' boxes before and after, grown (in that order)
   // The bounds at the last pose of what the move changed (the shafts the pairs' old candidates
@@ -87,11 +88,21 @@ struct GalerkinRadiosity::Move {
   bool boundsChanged(NodeRef n) const {
     return n.isCluster() ? clusterChanged[n.index] != 0 : elementChanged[n.index] == kReposed;
   }
-  // Which of an element end's points (bit i: cubature point i) changed cover.
-  std::uint8_t coverFlipped(NodeRef n, std::uint8_t coveredNow) const {
-    if (n.isCluster()) return 0;
-    const auto before = coveredPointsBefore.find(n.index);
-    return before == coveredPointsBefore.end() ? 0 : std::uint8_t(before->second ^ coveredNow);
+  // The point pairs of a pair (bit 4i + j: receiver point i, source point j, as
+  // VisibilityReuse::hiddenPairs) whose two points kept their cover.
+  std::uint16_t sameCover(NodeRef receiver, NodeRef source) const {
+    const auto flipped = [&](NodeRef n) -> std::uint8_t {
+      if (n.isCluster()) return 0;
+      const auto at = coverFlipped.find(n.index);
+      return at == coverFlipped.end() ? 0 : at->second;
+    };
+    const std::uint8_t rows = flipped(receiver), columns = flipped(source);
+    std::uint16_t same = 0xFFFF;
+    for (int k = 0; k < 4; ++k) {
+      if ((rows >> k) & 1u) same &= std::uint16_t(~(0xFu << (4 * k)));
+      if ((columns >> k) & 1u) same &= std::uint16_t(~(0x1111u << k));
+    }
+    return same;
   }
 };
 

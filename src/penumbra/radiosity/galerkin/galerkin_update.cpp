@@ -203,7 +203,7 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
         ++lastUpdate_.coverChanged;
         if (move.elementChanged[index] == Move::kUnchanged) {
           move.elementChanged[index] = Move::kRecovered;
-          move.coveredPointsBefore.emplace(index, pointsBefore);
+          move.coverFlipped.emplace(index, std::uint8_t(pointsBefore ^ e.coveredPoints));
         }
       }
       if (e.firstChild >= 0)
@@ -467,18 +467,8 @@ void GalerkinRadiosity::walkPairs(const Move& move, Counters& counters,
       // points kept theirs.
       const bool endsAsBefore = !move.endChanged(link.receiver) && !move.endChanged(link.source);
       const auto last = endsAsBefore ? lastEndsOf_.find(met[m].pair) : lastEndsOf_.end();
-      const std::uint8_t flippedRows = move.coverFlipped(
-          link.receiver,
-          link.receiver.isElement() ? elements_[link.receiver.index].coveredPoints : 0);
-      const std::uint8_t flippedColumns = move.coverFlipped(
-          link.source, link.source.isElement() ? elements_[link.source.index].coveredPoints : 0);
-      std::uint16_t sameCover = 0xFFFF;
-      for (int k = 0; k < 4; ++k) {
-        if ((flippedRows >> k) & 1u) sameCover &= std::uint16_t(~(0xFu << (4 * k)));
-        if ((flippedColumns >> k) & 1u) sameCover &= std::uint16_t(~(0x1111u << k));
-      }
       const VisibilityReuse reuse{
-          link.hiddenPairs, link.everyRay, &move.boxes, sameCover,
+          link.hiddenPairs, link.everyRay, &move.boxes, move.sameCover(link.receiver, link.source),
           last != lastEndsOf_.end() ? &lastEnds_[size_t(last->second)] : nullptr};
       out.estimate = estimate(link.receiver, link.source, CandidateView{out.count, out.own.get()},
                               out.counters, kept(m) && estimated ? &reuse : nullptr);
