@@ -7,7 +7,9 @@
 // (exactly coplanar faces and edges in line with the light's) or at random, turns by multiples of
 // 15 degrees or at random, the card stood edge-on to the light, and moves of the light itself.
 //
-// Usage: dm_random_moves [--moves N] [--seed S]   (defaults 1000 and 1; exit 1 on any difference)
+// Usage: dm_random_moves [--moves N] [--seed S] [--check-from M]
+//   (defaults 1000, 1 and 0; exit 1 on any difference). --check-from compares only from move M on
+//   (the walk up to it is the same, only faster: to reach a reported difference again).
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <random>
 #include <string>
@@ -92,12 +95,13 @@ bool interiorsOverlap(const Box3& a, const Box3& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int moves = 1000;
+  int moves = 1000, checkFrom = 0;
   std::uint64_t seed = 1;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--moves") moves = std::atoi(argv[i + 1]);
     if (flag == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
+    if (flag == "--check-from") checkFrom = std::atoi(argv[i + 1]);
   }
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
                                      ("dm_random_moves_" + std::to_string(seed) + ".json");
@@ -167,6 +171,11 @@ int main(int argc, char** argv) {
     if (change.moves.empty()) continue;
     ++kinds[kind];
     auto start = Clock::now();
+    // Each receiver's mesh inputs before the update, to write out a receiver whose edit differs.
+    std::map<PolygonId, std::vector<DiscontinuitySegment>> inputsBefore;
+    if (move >= checkFrom)
+      for (const WorldPolygon& p : live.posed().polygons)
+        if (engine.meshOf(p.id)) inputsBefore[p.id] = engine.meshInputs(p.id);
     live.apply(change);
     engine.update(live, change);
     const double update = std::chrono::duration<double>(Clock::now() - start).count();
@@ -174,6 +183,7 @@ int main(int argc, char** argv) {
     rebuilt += engine.stats().recomputedAll ? 1 : 0;
     reused += engine.stats().reusedFaces;
     recomputed += engine.stats().recomputedFaces;
+    if (move < checkFrom) continue;
     start = Clock::now();
     const DynamicScene scratch(live.scene(), live.posed().objectTransforms, live.extent(),
                                live.frame());
@@ -212,6 +222,54 @@ int main(int argc, char** argv) {
             std::printf("  face %zu: sample (%.17g %.17g %.17g) vs (%.17g %.17g %.17g)\n", *face,
                         x.x, x.y, x.z, y.x, y.y, y.z);
           }
+          // The edges only one of them has, with their surfaces.
+          const auto ea = a->edges(), eb = b->edges();
+          const auto print = [](const char* which, const auto& e) {
+            std::printf("  only %s: (%.17g %.17g %.17g) - (%.17g %.17g %.17g), surfaces", which,
+                        e.first.first.x, e.first.first.y, e.first.first.z, e.first.second.x,
+                        e.first.second.y, e.first.second.z);
+            for (SurfaceId id : e.second) std::printf(" %d", id);
+            std::printf("\n");
+          };
+          for (const auto& e : ea)
+            if (std::find(eb.begin(), eb.end(), e) == eb.end()) print("updated", e);
+          for (const auto& e : eb)
+            if (std::find(ea.begin(), ea.end(), e) == ea.end()) print("full", e);
+          // And the segments only one of them was built from.
+          const auto& ia = engine.meshInputs(p.id);
+          const auto& ib = full.meshInputs(p.id);
+          const auto same = [](const DiscontinuitySegment& x, const DiscontinuitySegment& y) {
+            return x.surface == y.surface && x.p0 == y.p0 && x.p1 == y.p1;
+          };
+          const auto printSegment = [](const char* which, const DiscontinuitySegment& x) {
+            std::printf("  input only %s: surface %d (%.17g %.17g %.17g) - (%.17g %.17g %.17g)\n",
+                        which, x.surface, x.p0.x, x.p0.y, x.p0.z, x.p1.x, x.p1.y, x.p1.z);
+          };
+          if (const auto was = inputsBefore.find(p.id); was != inputsBefore.end()) {
+            // The receiver and its segments before and after, for a test of ReceiverMesh alone.
+            const std::string name = "dm_random_moves_receiver_" + std::to_string(p.id) + "_move_" +
+                                     std::to_string(move) + ".txt";
+            std::ofstream out(name);
+            out.precision(17);
+            out << "diagonal " << live.posed().extent.diagonalLength() << "\n";
+            out << "receiver " << p.vertices.size();
+            for (const Vec3& v : p.vertices) out << " " << v.x << " " << v.y << " " << v.z;
+            out << "\n";
+            const std::vector<DiscontinuitySegment>& before = was->second;
+            for (const std::vector<DiscontinuitySegment>* list : {&before, &ia}) {
+              out << "segments " << list->size() << "\n";
+              for (const DiscontinuitySegment& x : *list)
+                out << x.surface << " " << x.p0.x << " " << x.p0.y << " " << x.p0.z << " " << x.p1.x
+                    << " " << x.p1.y << " " << x.p1.z << "\n";
+            }
+            std::printf("  wrote %s\n", name.c_str());
+          }
+          for (const auto& x : ia)
+            if (std::none_of(ib.begin(), ib.end(), [&](const auto& y) { return same(x, y); }))
+              printSegment("updated", x);
+          for (const auto& y : ib)
+            if (std::none_of(ia.begin(), ia.end(), [&](const auto& x) { return same(x, y); }))
+              printSegment("full", y);
         }
       }
       std::fflush(stdout);

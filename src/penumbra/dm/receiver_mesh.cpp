@@ -2,6 +2,7 @@
 
 #include <CGAL/Arr_consolidated_curve_data_traits_2.h>
 #include <CGAL/Arr_extended_dcel.h>
+#include <CGAL/Arr_observer.h>
 #include <CGAL/Arr_segment_traits_2.h>
 #include <CGAL/Arr_trapezoid_ric_point_location.h>
 #include <CGAL/Arr_walk_along_line_point_location.h>
@@ -16,6 +17,7 @@
 #include <set>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace penumbra {
 
@@ -26,10 +28,8 @@ using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
 using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, SurfaceId>;
 // Faces carry their index among the receiver's inside faces (-1 outside).
 using Dcel = CGAL::Arr_face_extended_dcel<Traits, int>;
-// A vertex's serial number (never reused) and its position rounded once from the exact
-// coordinates.
+// A vertex's position rounded once from the exact coordinates.
 struct VertexData {
-  std::size_t serial = 0;
   Vec2 local;
   Vec3 world;
 };
@@ -60,6 +60,117 @@ struct Piece {
   bool isOutline;
   bool isJoined = false;  // shares an endpoint exactly with another piece (a polyline's joint)
   PieceSource source;
+};
+
+// What the arrangement's edits changed since the faces were last indexed, as CGAL reports each
+// elementary change to its observers: the faces whose boundary an edit touched (split, merged,
+// an edge or a hole added or taken away, an edge split or merged on it) and the vertices it made.
+// Every other face has exactly the boundary it had, so its index's sample and area stand and
+// indexing follows the edit, not the mesh (a floor of 20,000 faces was walked in full after every
+// edit). The sweeps (aggregate insertion into a cleared arrangement) report no elementary changes:
+// their callers mark everything.
+class EditTracker : public CGAL::Arr_observer<Arrangement> {
+ public:
+  EditTracker(Arrangement& arrangement, std::unordered_map<const void*, VertexData>& vertexData)
+      : CGAL::Arr_observer<Arrangement>(arrangement), vertexData_(vertexData) {}
+
+  bool everything = true;
+  std::unordered_set<const void*> faces;
+  // The vertices made since, by address (a vertex removed since is dropped again).
+  std::unordered_map<const void*, Vertex_handle> madeVertices;
+
+  void reset() {
+    everything = false;
+    faces.clear();
+    madeVertices.clear();
+  }
+  bool touched(Arrangement::Face_const_handle f) const { return everything || faces.count(&*f); }
+
+  void after_clear() override { everything = true; }
+  void after_assign() override { everything = true; }
+  void after_create_vertex(Vertex_handle v) override {
+    if (!everything) madeVertices[&*v] = v;
+  }
+  void before_remove_vertex(Vertex_handle v) override {
+    if (v->is_isolated()) touch(v->face());
+    madeVertices.erase(&*v);
+    // Its address may be taken by a vertex made later: that one is indexed afresh.
+    vertexData_.erase(&*v);
+  }
+  void after_modify_vertex(Vertex_handle v) override {
+    if (v->is_isolated()) {
+      touch(v->face());
+      return;
+    }
+    auto c = v->incident_halfedges();
+    const auto first = c;
+    do touch(c->face());
+    while (++c != first);
+  }
+  void after_create_edge(Halfedge_handle e) override { touchSides(e); }
+  void before_split_edge(Halfedge_handle e, Vertex_handle, const X_monotone_curve_2&,
+                         const X_monotone_curve_2&) override {
+    touchSides(e);
+  }
+  void after_split_edge(Halfedge_handle e1, Halfedge_handle e2) override {
+    touchSides(e1);
+    touchSides(e2);
+  }
+  void after_split_face(Face_handle f, Face_handle made, bool) override {
+    touch(f);
+    touch(made);
+  }
+  void after_split_outer_ccb(Face_handle f, Ccb_halfedge_circulator,
+                             Ccb_halfedge_circulator) override {
+    touch(f);
+  }
+  void after_split_inner_ccb(Face_handle f, Ccb_halfedge_circulator,
+                             Ccb_halfedge_circulator) override {
+    touch(f);
+  }
+  void after_add_outer_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
+  void after_add_inner_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
+  void before_add_isolated_vertex(Face_handle f, Vertex_handle) override { touch(f); }
+  void before_merge_edge(Halfedge_handle e1, Halfedge_handle e2,
+                         const X_monotone_curve_2&) override {
+    touchSides(e1);
+    touchSides(e2);
+  }
+  void after_merge_edge(Halfedge_handle e) override { touchSides(e); }
+  void before_merge_face(Face_handle f1, Face_handle f2, Halfedge_handle) override {
+    touch(f1);
+    touch(f2);
+  }
+  void after_merge_face(Face_handle f) override { touch(f); }
+  void after_merge_outer_ccb(Face_handle f, Ccb_halfedge_circulator) override { touch(f); }
+  void after_merge_inner_ccb(Face_handle f, Ccb_halfedge_circulator) override { touch(f); }
+  void before_move_outer_ccb(Face_handle from, Face_handle to, Ccb_halfedge_circulator) override {
+    touch(from);
+    touch(to);
+  }
+  void before_move_inner_ccb(Face_handle from, Face_handle to, Ccb_halfedge_circulator) override {
+    touch(from);
+    touch(to);
+  }
+  void after_move_outer_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
+  void after_move_inner_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
+  void before_move_isolated_vertex(Face_handle from, Face_handle to, Vertex_handle) override {
+    touch(from);
+    touch(to);
+  }
+  void before_remove_edge(Halfedge_handle e) override { touchSides(e); }
+  void after_remove_outer_ccb(Face_handle f) override { touch(f); }
+  void after_remove_inner_ccb(Face_handle f) override { touch(f); }
+
+ private:
+  void touch(Face_handle f) {
+    if (!everything) faces.insert(&*f);
+  }
+  void touchSides(Halfedge_handle e) {
+    touch(e->face());
+    touch(e->twin()->face());
+  }
+  std::unordered_map<const void*, VertexData>& vertexData_;
 };
 
 }  // namespace
@@ -114,7 +225,8 @@ struct ReceiverMesh::Impl {
   // Each vertex's data by its address: entries are added when a vertex is first indexed and
   // erased when an update removes the vertex (whose address a later vertex may take).
   std::unordered_map<const void*, VertexData> vertices;
-  std::size_t nextSerial = 1;
+  // Declared after what it erases from (and destroyed before it).
+  EditTracker edits{arrangement, vertices};
   const VertexData& dataOf(Arrangement::Vertex_const_handle v) const { return vertices.at(&*v); }
   Vec3 worldOf(Arrangement::Vertex_const_handle v) const { return dataOf(v).world; }
   Vec2 localOf(Arrangement::Vertex_const_handle v) const { return dataOf(v).local; }
@@ -181,21 +293,12 @@ struct ReceiverMesh::Impl {
   // The segments as pieces in the receiver's frame, nearly collinear ones snapped (see insert()).
   std::vector<Piece> piecesOf(const std::vector<DiscontinuitySegment>& segments,
                               double snapTolerance) const;
-  // Each inside face's sample, area and index by its boundary's vertex serials (canonical cycles,
-  // 0 between cycles), from the last indexing: a face an edit left whole has the same serials.
+  // An inside face's sample, area and index.
   struct IndexedFace {
     Vec3 sample;
     double area;
     int index;
   };
-  struct SerialsHash {
-    std::size_t operator()(const std::vector<std::size_t>& serials) const {
-      std::size_t h = serials.size();
-      for (std::size_t s : serials) h = h * 1000003u ^ s;
-      return h;
-    }
-  };
-  std::unordered_map<std::vector<std::size_t>, IndexedFace, SerialsHash> indexed;
   // The faces an edit may destroy (around the edges it removes or changes), as they were: an
   // edit that takes a piece out and puts the same piece back recreates them with new vertices,
   // and indexFaces recognises them by their geometry (exact boundary points, canonical order).
@@ -233,7 +336,6 @@ struct ReceiverMesh::Impl {
     curves.insert(curves.end(), tiles.begin(), tiles.end());
     arrangement.clear();
     vertices.clear();
-    indexed.clear();
     CGAL::insert(arrangement, curves.begin(), curves.end());
     onlyBoundary = false;
   }
@@ -419,76 +521,57 @@ struct ReceiverMesh::Impl {
   }
 
   // Indexes the inside faces, each with its sample and area (kept from the last indexing for a
-  // face whose boundary is the same vertices); gives each face's index at the last indexing, or
-  // -1 for a face that was not there.
+  // face no edit touched since, see EditTracker); gives each face's index at the last indexing,
+  // or -1 for a face that was not there.
   std::vector<int> indexFaces() {
-    for (auto v = arrangement.vertices_begin(); v != arrangement.vertices_end(); ++v) {
+    const auto indexVertex = [&](Arrangement::Vertex_const_handle v) {
       const auto [it, added] = vertices.try_emplace(&*v);
-      if (!added) continue;
-      it->second.serial = nextSerial++;
+      if (!added) return;
       it->second.local = rounded(v->point());
       it->second.world = frame.toWorld(it->second.local);
+    };
+    if (edits.everything) {
+      for (auto v = arrangement.vertices_begin(); v != arrangement.vertices_end(); ++v)
+        indexVertex(v);
+    } else {
+      for (const auto& [address, v] : edits.madeVertices) indexVertex(v);
     }
     struct Found {
       Arrangement::Face_const_handle handle;
-      std::vector<std::size_t> serials;
       IndexedFace face;  // index: the previous one
     };
-    std::vector<Found> found;
+    std::vector<Found> found;  // the touched inside faces
     std::map<std::array<double, 3>, size_t> formerBySample;
     for (size_t k = 0; k < former.size(); ++k) {
       const Vec3& q = former[k].face.sample;
       formerBySample.emplace(std::array<double, 3>{q.x, q.y, q.z}, k);
     }
-    decltype(indexed) outside;  // bounded faces that are not inside faces, remembered as such
+    // The untouched inside faces by their index at the last indexing.
+    std::vector<Arrangement::Face_const_handle> kept(faces.size());
+    std::vector<char> isKept(faces.size(), 0);
     for (auto f = arrangement.faces_begin(); f != arrangement.faces_end(); ++f) {
-      f->set_data(-1);
-      if (f->is_unbounded()) continue;
-      // The face's identity: each cycle's serials from its least one, holes ordered by it (a
-      // vertex is visited twice only along an antenna, whose cycle is then ambiguous; such a
-      // face is computed again: the key stays a function of the boundary either way).
-      std::vector<std::size_t> serials;
-      std::vector<std::vector<std::size_t>> holes;
-      const auto cycleSerials = [&](Arrangement::Ccb_halfedge_const_circulator first) {
-        std::vector<std::size_t> cycle;
-        auto c = first;
-        do cycle.push_back(dataOf(c->source()).serial);
-        while (++c != first);
-        std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end()), cycle.end());
-        return cycle;
-      };
-      if (f->has_outer_ccb()) serials = cycleSerials(f->outer_ccb());
-      for (auto h = f->holes_begin(); h != f->holes_end(); ++h) holes.push_back(cycleSerials(*h));
-      std::sort(holes.begin(), holes.end());
-      serials.push_back(0);
-      for (const auto& hole : holes) {
-        serials.insert(serials.end(), hole.begin(), hole.end());
-        serials.push_back(0);
+      if (f->is_unbounded()) {
+        f->set_data(-1);
+        continue;
       }
-      if (const auto kept = indexed.find(serials); kept != indexed.end()) {
-        if (kept->second.index < 0) {
-          f->set_data(kept->second.index);
-          outside.emplace(std::move(serials), kept->second);
-        } else {
-          found.push_back({f, std::move(serials), kept->second});
+      if (!edits.touched(f)) {
+        if (f->data() >= 0) {
+          kept[size_t(f->data())] = f;
+          isKept[size_t(f->data())] = 1;
         }
         continue;
       }
+      f->set_data(-1);
       const auto inside = interiorPoint(f);
-      const Vec3 sample = inside ? *inside : Vec3{};
-      const std::vector<Cycle> cycles = inside ? cyclesOf(f) : std::vector<Cycle>{};
       if (!inside) {  // too thin for a sample in doubles: located as its neighbours' boundary
         f->set_data(kTooThin);
-        outside.emplace(std::move(serials), IndexedFace{{}, 0, kTooThin});
         continue;
       }
-      if (!containsPoint(outline, frame.toLocal(sample))) {
-        outside.emplace(std::move(serials), IndexedFace{{}, 0, -1});
-        continue;
-      }
+      const Vec3 sample = *inside;
+      if (!containsPoint(outline, frame.toLocal(sample))) continue;
       // Summed over the canonical cycles: floating-point sums depend on their order.
       double twiceArea = 0;
-      for (const Cycle& cycle : cycles) {
+      for (const Cycle& cycle : cyclesOf(f)) {
         double sum = 0;
         for (auto h : cycle) {
           const Vec2 a = localOf(h->source()), b = localOf(h->target());
@@ -503,7 +586,7 @@ struct ReceiverMesh::Impl {
         if (face.face.area == twiceArea / 2 && face.cycles == exactCycles(f))
           previousIndex = face.face.index;
       }
-      found.push_back({f, std::move(serials), {sample, twiceArea / 2, previousIndex}});
+      found.push_back({f, {sample, twiceArea / 2, previousIndex}});
     }
     former.clear();
     // Indexed in the order of their sample points: distinct faces have distinct samples (each
@@ -524,22 +607,34 @@ struct ReceiverMesh::Impl {
       key.push_back(x.face.area);
       return key;
     };
-    std::sort(found.begin(), found.end(), [&](const Found& x, const Found& y) {
+    const auto before = [&](const Found& x, const Found& y) {
       if (sampleKey(x) != sampleKey(y)) return sampleKey(x) < sampleKey(y);
       return boundaryKey(x) < boundaryKey(y);
-    });
+    };
+    std::sort(found.begin(), found.end(), before);
+    // The untouched faces are in that order already (it is a function of each face's boundary):
+    // merged with the touched ones.
+    std::vector<Found> untouched;
+    for (size_t index = 0; index < faces.size(); ++index)
+      if (isKept[index])
+        untouched.push_back(
+            {kept[index], {faces[index].samplePoint, faces[index].area, int(index)}});
+    std::vector<Found> all;
+    all.reserve(found.size() + untouched.size());
+    std::merge(untouched.begin(), untouched.end(), found.begin(), found.end(),
+               std::back_inserter(all), before);
     faces.clear();
     faceHandles.clear();
     std::vector<int> previous;
-    indexed = std::move(outside);
-    for (Found& x : found) {
+    previous.reserve(all.size());
+    for (const Found& x : all) {
       const int index = int(faces.size());
       faces.push_back({index, x.face.sample, x.face.area});
       faceHandles.push_back(x.handle);
       previous.push_back(x.face.index);
       arrangement.non_const_handle(x.handle)->set_data(index);
-      indexed.emplace(std::move(x.serials), IndexedFace{x.face.sample, x.face.area, index});
     }
+    edits.reset();
     return previous;
   }
 };
@@ -714,10 +809,13 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
   for (const Piece& p : pieces) curves.push_back(impl_->curveOf(p));
   // The first insertion builds the arrangement in one sweep (Impl::sweep).
   impl_->detachLocator();
-  if (impl_->onlyBoundary && !curves.empty())
+  if (impl_->onlyBoundary && !curves.empty()) {
     impl_->sweep(std::move(curves));
-  else
+  } else {
+    // An aggregate insertion sweeps: it reports no elementary changes (EditTracker).
+    impl_->edits.everything = true;
     CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
+  }
   impl_->pieces.insert(impl_->pieces.end(), std::make_move_iterator(pieces.begin()),
                        std::make_move_iterator(pieces.end()));
   impl_->indexFaces();
@@ -862,8 +960,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   for (auto v : touched) {
     if (!(v->is_isolated() || v->degree() == 2) || endsAPiece(v->point())) continue;
-    const void* address = &*v;
-    if (CGAL::remove_vertex(m.arrangement, v)) m.vertices.erase(address);
+    CGAL::remove_vertex(m.arrangement, v);  // its data goes with it (EditTracker)
   }
   {
     WalkLocation walk(m.arrangement);
@@ -1122,12 +1219,9 @@ const PlaneFrame& ReceiverMesh::frame() const {
 size_t ReceiverMesh::memoryBytes() const {
   // DCEL records plus the exact coordinates' lazy representations, estimated per record.
   const auto& a = impl_->arrangement;
-  // What an update reads besides: the pieces, each vertex's data and each face's cached sample
-  // (keyed by its boundary's serials: about one per half-edge).
-  const size_t updateData = impl_->pieces.capacity() * sizeof(Piece) +
-                            impl_->vertices.size() * (sizeof(VertexData) + 32) +
-                            impl_->indexed.size() * (sizeof(Impl::IndexedFace) + 64) +
-                            a.number_of_halfedges() * sizeof(std::size_t);
+  // What an update reads besides: the pieces and each vertex's data.
+  const size_t updateData =
+      impl_->pieces.capacity() * sizeof(Piece) + impl_->vertices.size() * (sizeof(VertexData) + 32);
   return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 120 +
          a.number_of_faces() * 64 + impl_->faces.capacity() * sizeof(MeshFace) + updateData;
 }
