@@ -337,7 +337,30 @@ struct ReceiverMesh::Impl {
     arrangement.clear();
     vertices.clear();
     CGAL::insert(arrangement, curves.begin(), curves.end());
+    fitCurvesToEdges();
     onlyBoundary = false;
+  }
+  // CGAL 5.5's sweep can leave an edge carrying a longer curve than its own: measured, where a
+  // contact line lying along an outline edge ended inside it, the outline edge was split there but
+  // one part kept the whole outline segment as its curve, in some heap layouts and not in others
+  // (dm_random_moves, seed 62, move 804). An update that later took the contact line away could
+  // not merge the two parts again (their curves no longer meet at the vertex) and left a vertex a
+  // fresh build lacks; an insertion's zone walk reads the curves too. Each edge's curve is made the
+  // segment between its own vertices (the same line, the same surfaces).
+  void fitCurvesToEdges() {
+    // Most curve ends share their representation with the vertex: no exact comparison then.
+    const auto identical = [](const Point& a, const Point& b) {
+      return static_cast<const CGAL::Handle&>(a).identical(b);
+    };
+    for (auto e = arrangement.edges_begin(); e != arrangement.edges_end(); ++e) {
+      const Point &p = e->source()->point(), &q = e->target()->point();
+      const auto& curve = e->curve();
+      const Point &s = curve.source(), &t = curve.target();
+      if ((identical(s, p) && identical(t, q)) || (identical(s, q) && identical(t, p))) continue;
+      if ((s == p && t == q) || (s == q && t == p)) continue;
+      arrangement.modify_edge(
+          e, Traits::X_monotone_curve_2(SegmentTraits::X_monotone_curve_2(p, q), curve.data()));
+    }
   }
 
   using Cycle = std::vector<Arrangement::Halfedge_const_handle>;
@@ -679,6 +702,7 @@ ReceiverMesh::ReceiverMesh(const WorldPolygon& receiver, double tileSize)
   std::vector<Traits::Curve_2> curves = boundary;
   curves.insert(curves.end(), impl_->tiles.begin(), impl_->tiles.end());
   CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
+  impl_->fitCurvesToEdges();
   impl_->indexFaces();
 }
 
@@ -815,6 +839,7 @@ void ReceiverMesh::insert(const std::vector<DiscontinuitySegment>& segments, dou
     // An aggregate insertion sweeps: it reports no elementary changes (EditTracker).
     impl_->edits.everything = true;
     CGAL::insert(impl_->arrangement, curves.begin(), curves.end());
+    impl_->fitCurvesToEdges();
   }
   impl_->pieces.insert(impl_->pieces.end(), std::make_move_iterator(pieces.begin()),
                        std::make_move_iterator(pieces.end()));
