@@ -90,6 +90,33 @@ TEST(EdgeAdjacency, CoincidentCopiesOfAPolygonKeepTheirOutline) {
   }
 }
 
+// The side a polygon takes beside an edge is its interior's there, not that of whichever vertex
+// is off the edge's line: a non-convex polygon has vertices on both sides (the dm_geometry fuzzer's
+// `mismatch-ramp-piercing-floor-beside-a-concave-pentagon`, where a ramp's shadow was lost).
+TEST(EdgeAdjacency, ConcavePolygonLiesOnItsInteriorsSideOfAnEdge) {
+  test::SceneBuilder b;
+  b.addMaterial("white", {0.5, 0.5, 0.5});
+  // Counter-clockwise about +z, its interior beside edge (0,0)-(1,0) on +y; it starts, and reaches
+  // farthest, on -y.
+  b.addPolygon(
+      "white",
+      {{-1, -3, 0}, {-0.2, -3, 0}, {-0.2, -0.1, 0}, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 1, 0}},
+      "hook");
+  // A ramp from the same edge, down towards +y.
+  b.addPolygon("white", {{1, 0, 0}, {0, 0, 0}, {0, 1, -1}, {1, 1, -1}}, "ramp");
+  const PosedScene scene = b.pose();
+  const EdgeAdjacency adjacency(scene);
+  const auto shared = std::find_if(adjacency.edges().begin(), adjacency.edges().end(),
+                                   [](const SceneEdge& e) { return e.polygons.size() == 2; });
+  ASSERT_NE(shared, adjacency.edges().end());
+  const EdgeId edge = EdgeId(shared - adjacency.edges().begin());
+  // From above both lie on one side of the plane through the edge: the edge bounds what is seen.
+  EXPECT_TRUE(adjacency.isSilhouetteFrom(edge, {0.5, 0.5, 5}));
+  EXPECT_TRUE(adjacency.isSilhouetteFrom(edge, {0.5, -4, 5}));
+  // From beyond the ramp, low, the plane passes between them: one face seen from each side.
+  EXPECT_FALSE(adjacency.isSilhouetteFrom(edge, {0.5, 5, -0.3}));
+}
+
 TEST(EdgeAdjacency, VertexInsideAFlatRegionIsNotAFeature) {
   // Four coplanar quads around the origin: the centre vertex is interior, the others are corners
   // or boundary points.

@@ -7,6 +7,8 @@
 
 #include <vector>
 
+#include "penumbra/geometry/predicates.h"
+
 #include "penumbra/scene/posed_scene.h"
 
 namespace penumbra {
@@ -59,8 +61,9 @@ class EdgeAdjacency {
   bool canVertexBeSilhouette(VertexId v) const;
 
  private:
-  // A vertex of polygon p that is not on the line of edge e (for side tests).
-  const Vec3* offEdgeVertex(PolygonId p, const SceneEdge& e) const;
+  // The side of the plane through edge e and point x on which polygon p lies beside e (exact
+  // orientation of a vertex of p; kZero when x lies in p's plane or p is degenerate).
+  Sign sideOf(PolygonId p, const SceneEdge& e, const Vec3& x) const;
 
   const PosedScene& scene_;
   std::vector<SceneVertex> vertices_;
