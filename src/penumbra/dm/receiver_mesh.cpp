@@ -110,10 +110,6 @@ class EditTracker : public CGAL::Arr_observer<Arrangement> {
     while (++c != first);
   }
   void after_create_edge(Halfedge_handle e) override { touchSides(e); }
-  void before_split_edge(Halfedge_handle e, Vertex_handle, const X_monotone_curve_2&,
-                         const X_monotone_curve_2&) override {
-    touchSides(e);
-  }
   void after_split_edge(Halfedge_handle e1, Halfedge_handle e2) override {
     touchSides(e1);
     touchSides(e2);
@@ -133,17 +129,8 @@ class EditTracker : public CGAL::Arr_observer<Arrangement> {
   void after_add_outer_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
   void after_add_inner_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
   void before_add_isolated_vertex(Face_handle f, Vertex_handle) override { touch(f); }
-  void before_merge_edge(Halfedge_handle e1, Halfedge_handle e2,
-                         const X_monotone_curve_2&) override {
-    touchSides(e1);
-    touchSides(e2);
-  }
   void after_merge_edge(Halfedge_handle e) override { touchSides(e); }
-  void before_merge_face(Face_handle f1, Face_handle f2, Halfedge_handle) override {
-    touch(f1);
-    touch(f2);
-  }
-  void after_merge_face(Face_handle f) override { touch(f); }
+  void after_merge_face(Face_handle f) override { touch(f); }  // the face that stays
   void after_merge_outer_ccb(Face_handle f, Ccb_halfedge_circulator) override { touch(f); }
   void after_merge_inner_ccb(Face_handle f, Ccb_halfedge_circulator) override { touch(f); }
   void before_move_outer_ccb(Face_handle from, Face_handle to, Ccb_halfedge_circulator) override {
@@ -154,8 +141,6 @@ class EditTracker : public CGAL::Arr_observer<Arrangement> {
     touch(from);
     touch(to);
   }
-  void after_move_outer_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
-  void after_move_inner_ccb(Ccb_halfedge_circulator h) override { touch(h->face()); }
   void before_move_isolated_vertex(Face_handle from, Face_handle to, Vertex_handle) override {
     touch(from);
     touch(to);
@@ -571,19 +556,15 @@ struct ReceiverMesh::Impl {
       const Vec3& q = former[k].face.sample;
       formerBySample.emplace(std::array<double, 3>{q.x, q.y, q.z}, k);
     }
-    // The untouched inside faces by their index at the last indexing.
+    // The untouched inside faces by their index at the last indexing (null where none).
     std::vector<Arrangement::Face_const_handle> kept(faces.size());
-    std::vector<char> isKept(faces.size(), 0);
     for (auto f = arrangement.faces_begin(); f != arrangement.faces_end(); ++f) {
       if (f->is_unbounded()) {
         f->set_data(-1);
         continue;
       }
       if (!edits.touched(f)) {
-        if (f->data() >= 0) {
-          kept[size_t(f->data())] = f;
-          isKept[size_t(f->data())] = 1;
-        }
+        if (f->data() >= 0) kept[size_t(f->data())] = f;
         continue;
       }
       f->set_data(-1);
@@ -641,7 +622,7 @@ struct ReceiverMesh::Impl {
     // merged with the touched ones.
     std::vector<Found> untouched;
     for (size_t index = 0; index < faces.size(); ++index)
-      if (isKept[index])
+      if (kept[index] != Arrangement::Face_const_handle())
         untouched.push_back(
             {kept[index], {faces[index].samplePoint, faces[index].area, int(index)}});
     std::vector<Found> all;
