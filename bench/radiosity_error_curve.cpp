@@ -8,13 +8,16 @@
 // Usage: radiosity_error_curve [--points N] [--paths P] [--threads T] [--tolerances a,b,...]
 //                              [--no-final-gather] [--combined] [--path-tracer]
 //                              [--visibility-rays N]
-//                              [--galerkin [--repeat N] [--hidden-weight W]]
-//                              [--gather-rays N] [--worst N]
+//                              [--galerkin [--repeat N] [--hidden-weight W]
+//                                          [--whole-hidden-weight W]]
+//                              [--gather-rays N] [--worst N] [--by-polygon]
 //                              [scene.json ...]
 // --galerkin: the Galerkin core (radiosity/galerkin/) instead of the hierarchical solver with its
 // final gather; --repeat N solves each tolerance N times and reports the fastest; --hidden-weight
-// sets how many times a link's partly hidden transfer counts in its oracle; --worst N lists the N
-// points with the largest errors under each row (either solver).
+// sets how many times a link's partly hidden transfer counts in its oracle, --whole-hidden-weight
+// that of a pair of elements found wholly hidden; --worst N lists the N
+// points with the largest errors under each row (either solver); --by-polygon each receiver's mean
+// signed indirect error (Galerkin).
 // --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
 // with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the
@@ -35,6 +38,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -63,14 +67,16 @@ struct Options {
   int paths = 65536;
   int threads = 1;
   bool finalGather = true;
-  bool combined = false;     // CombinedSolution: exact direct (DM) + radiosity's indirect
-  bool pathTracer = false;   // the path tracer's own error and cost at fewer paths instead
-  bool galerkin = false;     // the Galerkin core (linear elements, no final gather) instead
-  int repeat = 1;            // Galerkin: solves per tolerance, the fastest one's time reported
-  double hiddenWeight = -1;  // Galerkin: GalerkinOptions::hiddenWeight (negative: its default)
-  int visibilityRays = 0;    // 0: the solver's default
+  bool combined = false;          // CombinedSolution: exact direct (DM) + radiosity's indirect
+  bool pathTracer = false;        // the path tracer's own error and cost at fewer paths instead
+  bool galerkin = false;          // the Galerkin core (linear elements, no final gather) instead
+  int repeat = 1;                 // Galerkin: solves per tolerance, the fastest one's time reported
+  double hiddenWeight = -1;       // Galerkin: GalerkinOptions::hiddenWeight (negative: its default)
+  double wholeHiddenWeight = -1;  // Galerkin: GalerkinOptions::wholeHiddenWeight (likewise)
+  int visibilityRays = 0;         // 0: the solver's default
   int gatherRays = 0;
-  int worst = 0;  // the points with the largest errors, listed under each row
+  int worst = 0;           // the points with the largest errors, listed under each row
+  bool byPolygon = false;  // each receiver's mean signed indirect error, under each row
   std::vector<double> tolerances{1e-2, 3e-3, 1e-3, 3e-4, 1e-4};
   std::vector<std::string> scenes;
 };
@@ -192,12 +198,36 @@ void printWorst(const std::vector<OpenPoint>& points,
   }
 }
 
+// Per receiver polygon: its points, their mean signed indirect error (of the total) and mean
+// reference, so that light lost or gained on one surface shows (a median over the scene hides it).
+void printByPolygon(const std::vector<OpenPoint>& points,
+                    const std::vector<std::optional<RadiositySample>>& samples) {
+  struct Sums {
+    int count = 0;
+    double signedIndirect = 0, reference = 0;
+  };
+  std::map<int, Sums> byPolygon;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const OpenPoint& p = points[i];
+    const double indirect = samples[i] ? samples[i]->indirect.average() : 0;
+    Sums& s = byPolygon[int(p.point.receiver)];
+    ++s.count;
+    s.signedIndirect += (indirect - (p.reference - p.direct)) / p.reference;
+    s.reference += p.reference;
+  }
+  for (const auto& [polygon, s] : byPolygon)
+    std::printf(
+        "#   polygon %3d: %3d points, mean signed indirect %+6.2f%% of the total, mean %.4g\n",
+        polygon, s.count, 100 * s.signedIndirect / s.count, s.reference / s.count);
+}
+
 void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points, double tolerance,
                  const Options& o) {
   GalerkinOptions options;
   options.tolerance = tolerance;
   options.threads = o.threads;
   if (o.hiddenWeight >= 0) options.hiddenWeight = o.hiddenWeight;
+  if (o.wholeHiddenWeight >= 0) options.wholeHiddenWeight = o.wholeHiddenWeight;
   GalerkinRadiosity solver(options);
   // Solves of a few milliseconds vary with the machine's load: the fastest of --repeat.
   double seconds = std::numeric_limits<double>::infinity();
@@ -229,6 +259,7 @@ void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points,
       100 * percentile(errors.signedIndirect, 0.5), absorbed.average() / emitted.average(),
       s.pointPairs, s.visibilityRays, s.unoccludedLinks, s.iterations);
   printWorst(points, samples, o.worst);
+  if (o.byPolygon) printByPolygon(points, samples);
   std::fflush(stdout);
 }
 
@@ -349,12 +380,16 @@ int main(int argc, char** argv) {
       o.repeat = std::max(1, std::stoi(next()));
     else if (arg == "--hidden-weight")
       o.hiddenWeight = std::stod(next());
+    else if (arg == "--whole-hidden-weight")
+      o.wholeHiddenWeight = std::stod(next());
     else if (arg == "--visibility-rays")
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")
       o.gatherRays = std::stoi(next());
     else if (arg == "--worst")
       o.worst = std::stoi(next());
+    else if (arg == "--by-polygon")
+      o.byPolygon = true;
     else
       o.scenes.push_back(arg);
   }

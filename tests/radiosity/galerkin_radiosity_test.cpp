@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <numeric>
 
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/base/split_mix.h"
@@ -169,6 +170,117 @@ TEST(GalerkinRadiosity, ParallelSquaresMatchClosedForm) {
   // Measured: 2e-16 relative (each receiver point's row is the exact point form factor; the
   // Gauss points integrate it over the receiver).
   EXPECT_NEAR(sum / area, expected, 1e-3 * expected);
+}
+
+// The share of polygon `source`'s Lambertian emission whose first hit is the front of each
+// polygon, by cosine-distributed rays from uniform points of it: an independent count (its own
+// ray-triangle tests, none of the solver's or the ray caster's code).
+std::vector<double> emissionShares(const PosedScene& scene, PolygonId source, int rays) {
+  const WorldPolygon& from = scene.polygons[size_t(source)];
+  const Vec3 n = from.plane.normal;
+  const Vec3 t1 = normalize(cross(n, std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
+  const Vec3 t2 = cross(n, t1);
+  std::vector<double> areas;  // the fan's triangles
+  for (size_t i = 1; i + 1 < from.vertices.size(); ++i)
+    areas.push_back(length(
+        cross(from.vertices[i] - from.vertices[0], from.vertices[i + 1] - from.vertices[0])));
+  std::vector<double> shares(scene.polygons.size());
+  SplitMix random(7);
+  const auto uniform = [&] { return random.uniform(); };
+  for (int ray = 0; ray < rays; ++ray) {
+    double pick = uniform() * std::accumulate(areas.begin(), areas.end(), 0.0);
+    size_t t = 0;
+    while (t + 1 < areas.size() && pick > areas[t]) pick -= areas[t++];
+    double u = uniform(), v = uniform();
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    const Vec3 o = from.vertices[0] + (from.vertices[t + 1] - from.vertices[0]) * u +
+                   (from.vertices[t + 2] - from.vertices[0]) * v;
+    const double r1 = uniform(), phi = 2 * std::numbers::pi * uniform();
+    const Vec3 d = t1 * (std::sqrt(r1) * std::cos(phi)) + t2 * (std::sqrt(r1) * std::sin(phi)) +
+                   n * std::sqrt(1 - r1);
+    double nearest = std::numeric_limits<double>::infinity();
+    int hit = -1;
+    for (const WorldPolygon& p : scene.polygons) {
+      if (p.id == source) continue;
+      for (size_t i = 1; i + 1 < p.vertices.size(); ++i) {
+        const Vec3 e1 = p.vertices[i] - p.vertices[0], e2 = p.vertices[i + 1] - p.vertices[0];
+        const Vec3 pv = cross(d, e2);
+        const double det = dot(pv, e1);
+        if (std::abs(det) < 1e-15) continue;
+        const Vec3 tv = o - p.vertices[0];
+        const double a = dot(tv, pv) / det;
+        const Vec3 qv = cross(tv, e1);
+        const double b = dot(d, qv) / det, along = dot(e2, qv) / det;
+        if (a < 0 || b < 0 || a + b > 1 || along <= 1e-12 || along >= nearest) continue;
+        nearest = along;
+        hit = dot(d, p.plane.normal) < 0 ? p.id : -1;
+      }
+    }
+    if (hit >= 0) shares[size_t(hit)] += 1.0 / rays;
+  }
+  return shares;
+}
+
+// The Cornell box, black and still, with one polygon `side` emitting M = 1: each polygon's share of
+// its light, the solver's against an independent ray count.
+// `unresolved`: a polygon whose share is printed but not checked (a known gap, named where used).
+void expectSharesOfOneSidesLightAsCounted(PolygonId side, double tolerance,
+                                          PolygonId unresolved = -1) {
+  Scene scene = loadScene(scenePath("cornell-box/cornell-box.json"));
+  scene.materials.push_back({"black", Rgb::gray(0), Rgb::gray(0)});
+  scene.materials.push_back({"lamp", Rgb::gray(0), Rgb::gray(1)});
+  const int black = int(scene.materials.size()) - 2, lamp = black + 1;
+  PolygonId id = 0;
+  for (SceneObject& o : scene.objects) {
+    for (int& m : o.polygonMaterial) m = id++ == side ? lamp : black;
+    // Static: a moving block is a cluster subtree of its own, and the floor's cluster another.
+    if (o.isDynamic()) {
+      o.transform = o.motion.poseAt(0);
+      o.motion = {};
+    }
+  }
+  const DynamicScene live(scene, 0);
+  GalerkinOptions options;
+  options.tolerance = tolerance;
+  GalerkinRadiosity solver(options);
+  solver.build(live);
+  std::vector<double> received(size_t(scene.polygonCount()));
+  for (const auto& e : solver.elements())
+    if (e.isLeaf()) received[size_t(e.polygon)] += e.node.irradianceDirect[0].average() * e.area;
+  const double emitted = solver.emittedPower().average();
+  const std::vector<double> counted = emissionShares(live.posed(), side, 200'000);
+  for (PolygonId p = 0; p < scene.polygonCount(); ++p) {
+    if (received[size_t(p)] > 0 || counted[size_t(p)] > 0)
+      std::printf("polygon %2d: %.4f of polygon %d's light, counted %.4f\n", p,
+                  received[size_t(p)] / emitted, side, counted[size_t(p)]);
+    if (p != unresolved) {
+      EXPECT_NEAR(received[size_t(p)] / emitted, counted[size_t(p)], 0.005) << "polygon " << p;
+    }
+  }
+}
+
+// The short block's side facing the green wall stands on the floor facing away from the floor's
+// middle. The floor's cluster points and Gauss points all lie behind the side, so every point pair
+// of their pair read zero with zero spread, and no pass ever split it: the floor received nothing
+// of the 21% of the side's light that falls on it. Such "blind" pairs now get a spread
+// (GalerkinRadiosity::estimate). Measured: the floor 0.2075 against 0.2093 counted (0 before);
+// every other polygon within 0.002 of its count (a count's standard error: at most 0.0011).
+TEST(GalerkinRadiosity, ABlockSideFacingAwayFromTheFloorsMiddleLightsTheFloor) {
+  expectSharesOfOneSidesLightAsCounted(13, 1e-3);
+}
+
+// The short block's side facing the red wall sends 2.4% of its light past the tall block to the
+// back wall. The pair of the whole back wall and the side found all 16 point pairs hidden: its
+// estimate zero, its spread zero, its partly hidden term (the smaller of hidden and visible)
+// zero, so it was never split and the back wall received nothing. A wholly hidden pair of
+// elements now counts its hidden transfer in the oracle (GalerkinOptions::wholeHiddenWeight).
+// Measured: the back wall 0.0236 against 0.0226 counted (0 before).
+// Not yet right, and not checked: the tall block's side facing it (polygon 20) receives 0 against
+// 0.0096 counted. Its pair with the side is between the tall block's cluster and the side, wholly
+// hidden too; weighting such pairs with a cluster end raised the furnished room's absorbed /
+// emitted from 1.037 to 1.059 at 1e-3 (light through contacts, issue 19), so they are not.
+TEST(GalerkinRadiosity, LightPassingBesideAnOccluderReachesTheWallBehindIt) {
+  expectSharesOfOneSidesLightAsCounted(15, 1e-3, 20);
 }
 
 // Every polygon of the chair room's walls emits M = 1 with reflectance 1/2: B = 2 everywhere.

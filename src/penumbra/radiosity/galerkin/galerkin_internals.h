@@ -27,6 +27,9 @@ struct GalerkinRadiosity::EndTerms {
   double coveredHighest = 0;                         // the largest transfer a cover took away
   double nearSpread = 0;  // elements nearly face to face: the exact form factors' spread
   bool near = false;
+  // The ends can exchange light (canExchange) but no point pair faces: what the transfer may be
+  // where the cubature points do not look (0 when some pair faces).
+  double blindSpread = 0;
 };
 
 struct GalerkinRadiosity::Estimate {

@@ -214,6 +214,30 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       }
     }
     ends.coveredHighest = coveredHighest;
+    // No point pair faces, yet the ends can exchange light (each has a point in front of the
+    // other): the cubature points lie where the other end is behind them, the estimate reads
+    // zero with zero spread, and the oracle would never split the pair. In the Cornell box a
+    // block's side stands on the floor facing away from its middle: the floor's four cluster
+    // points and its Gauss points lay behind the side, and the 21% of the side's light that
+    // falls on the floor (an independent ray count) was lost. Such a pair's spread is what a
+    // transfer can be where its points do not look: between elements the receiver's exact point
+    // form factor at its corners (one lies in front of the source), at a cluster end the cap.
+    const bool facesSomewhere =
+        std::any_of(transfers.begin(), transfers.end(), [](const std::array<double, 4>& row) {
+          return std::any_of(row.begin(), row.end(), [](double t) { return t > 0; });
+        });
+    if (!facesSomewhere && coveredHighest == 0) {
+      if (!receiver.isCluster && !source.isCluster) {
+        const ElementShape& to = elements_[r.index].shape;
+        for (int k = 0; k < to.vertexCount; ++k)
+          ends.blindSpread = std::max(
+              ends.blindSpread,
+              pointToElementFormFactor(to.vertices[k], to.normal, elements_[s.index].shape));
+      } else {
+        ends.blindSpread =
+            (receiver.isCluster ? kClusterCosine : 1) * (source.isCluster ? kClusterCosine : 1);
+      }
+    }
     return ends;
   };
   // The candidates' bounds, grown by the ray caster's tolerance (it works in single precision).
@@ -288,6 +312,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   e.meanTransfer = e.k[0];
   e.spread = highest - lowest;
   if (e.ends.near) e.spread = std::max(e.spread, e.ends.nearSpread);
+  e.spread = std::max(e.spread, e.ends.blindSpread);
   // Over a partly covered end the transfer runs from nothing (under the cover) to what the
   // covered points would receive in the open: the spread a linear function cannot follow, so that
   // refinement splits along the contact's outline even where no cubature point is in the open.
