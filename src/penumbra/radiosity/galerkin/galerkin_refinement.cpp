@@ -28,8 +28,8 @@ InputError budgetExceeded(double tolerance, const char* what, long long limit) {
 // The power a link may misplace: over the receiver's area, the source's largest radiosity times
 // how much the point-pair transfers differ (a linear function cannot follow more); plus, where
 // some pairs are hidden and some not, the smaller of the hidden and the visible transfer
-// (weighted: GalerkinOptions::hiddenWeight); where every pair between two elements is hidden, the
-// hidden transfer (GalerkinOptions::wholeHiddenWeight); plus the whole transfer at a cluster end
+// (weighted: GalerkinOptions::hiddenWeight); where every point pair is hidden, the hidden
+// transfer (GalerkinOptions::wholeHiddenWeight); plus the whole transfer at a cluster end
 // (its surfaces are taken as a whole) and at an element partly covered by a polygon in contact.
 double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, double spread,
                                  double hiddenTransfer) const {
@@ -40,8 +40,7 @@ double GalerkinRadiosity::oracle(NodeRef r, NodeRef s, double meanTransfer, doub
 double GalerkinRadiosity::oracleVariation(NodeRef r, NodeRef s, double meanTransfer, double spread,
                                           double hiddenTransfer) const {
   double variation = spread + options_.hiddenWeight * std::min(hiddenTransfer, meanTransfer);
-  if (meanTransfer == 0 && r.isElement() && s.isElement())
-    variation += options_.wholeHiddenWeight * hiddenTransfer;
+  if (meanTransfer == 0) variation += options_.wholeHiddenWeight * hiddenTransfer;
   if (r.isCluster() || s.isCluster()) variation += meanTransfer;
   // A partly covered end: the covered part's share goes to (or comes from) the exposed part.
   const auto partlyCovered = [&](NodeRef n) {
