@@ -58,6 +58,9 @@ struct Box3 {
   // test an expanded box)?
   bool meetsSegment(const Vec3& a, const Vec3& b) const {
     if (isEmpty()) return false;
+    // The segment's own box first, without a division: most boxes tested lie beside it.
+    for (int k = 0; k < 3; ++k)
+      if (std::max(a[k], b[k]) < min[k] || std::min(a[k], b[k]) > max[k]) return false;
     const auto [enter, leave] = segmentInterval(a, b);
     return enter <= leave;
   }
