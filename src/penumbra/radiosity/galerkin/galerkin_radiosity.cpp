@@ -92,6 +92,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
   for (GElement& e : elements_) {
     e.cover = coverOf(e);
     e.coveredPoints = coveredPointsOf(e);
+    e.exposedShare = exposedShareOf(e);
   }
   buildHierarchy(scene.scene(), roots);
   threshold_ = options_.tolerance * emittedPower;
@@ -249,6 +250,17 @@ GalerkinRadiosity::GElement::Cover GalerkinRadiosity::coverOf(const GElement& e)
     covered = inside >= -slack;
   }
   return covered ? GElement::kCovered : GElement::kPartlyCovered;
+}
+
+float GalerkinRadiosity::exposedShareOf(const GElement& e) const {
+  if (e.cover != GElement::kPartlyCovered) return e.cover == GElement::kCovered ? 0.0f : 1.0f;
+  constexpr int kSide = 8;
+  int open = 0;
+  for (int i = 0; i < kSide; ++i)
+    for (int j = 0; j < kSide; ++j)
+      open +=
+          isCovered(e.polygon, e.shape.samplePoint((i + 0.5) / kSide, (j + 0.5) / kSide)) ? 0 : 1;
+  return float(open) / float(kSide * kSide);
 }
 
 std::uint8_t GalerkinRadiosity::coveredPointsOf(const GElement& e) const {

@@ -304,6 +304,9 @@ class GalerkinRadiosity {
     // links' estimates read; a move of a polygon in contact changes the estimates only if it
     // changes these.
     std::uint8_t coveredPoints = 0;
+    // A root element: the share of its area no polygon in contact covers, by which it takes what
+    // arrives on its cluster's lobes and gives to what they send (exposedShareOf).
+    float exposedShare = 1;
     bool isLeaf() const { return firstChild < 0; }
   };
   struct GCluster {
@@ -368,6 +371,9 @@ class GalerkinRadiosity {
   void clear();
   void countStats() const;
   void countShafts() const;  // GalerkinStats' shafts, shaftBytes, allShaftBytes
+  // The share of the element's area that no polygon in contact covers: 1 exposed, 0 covered,
+  // else counted on a stratified 8 x 8 sample of it.
+  float exposedShareOf(const GElement& e) const;
   // Can any light leave s and reach r (their fronts face each other somewhere)?
   bool canExchange(NodeRef r, NodeRef s) const;
   struct VisibilityReuse;

@@ -147,7 +147,7 @@ void GalerkinRadiosity::addLobes(AxisLobes& lobes, NodeRef child, bool emitted) 
   // An element's exitance on the lobes: emission, or its mean reflected radiosity.
   const Rgb exitance = emitted ? e.node.emission : e.node.radiosity[0] - e.node.emission;
   const std::array<double, 6> shares = exitanceShares(e.shape.normal);
-  for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * shares[f]);
+  for (int f = 0; f < 6; ++f) lobes[f] += exitance * (e.area * e.exposedShare * shares[f]);
 }
 
 std::size_t GalerkinRadiosity::solveStateBytes() const {
@@ -525,10 +525,12 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
       if (child.isCluster()) {
         change = std::max(change, pushPull(child, {}, a, largestReflected));
       } else {
-        // A root element takes what arrived on the lobes as it faces.
-        const Vec3& normal = elements_[child.index].shape.normal;
+        // A root element takes what arrived on the lobes as it faces, on its exposed part.
+        const GElement& root = elements_[child.index];
         change = std::max(
-            change, pushPull(child, {irradianceOn(a, normal), Rgb{}, Rgb{}}, {}, largestReflected));
+            change,
+            pushPull(child, {irradianceOn(a, root.shape.normal) * root.exposedShare, Rgb{}, Rgb{}},
+                     {}, largestReflected));
       }
       const Node& c = nodeOf(child);
       radiosity += c.radiosity[0] * area(child);
@@ -592,9 +594,10 @@ void GalerkinRadiosity::storeIrradiance(NodeRef n, const LinearRgb& direct,
       if (child.isCluster()) {
         storeIrradiance(child, {}, {}, d, i);
       } else {
-        const Vec3& normal = elements_[child.index].shape.normal;
-        storeIrradiance(child, {irradianceOn(d, normal), Rgb{}, Rgb{}},
-                        {irradianceOn(i, normal), Rgb{}, Rgb{}}, {}, {});
+        const GElement& root = elements_[child.index];
+        storeIrradiance(
+            child, {irradianceOn(d, root.shape.normal) * root.exposedShare, Rgb{}, Rgb{}},
+            {irradianceOn(i, root.shape.normal) * root.exposedShare, Rgb{}, Rgb{}}, {}, {});
       }
     }
     return;

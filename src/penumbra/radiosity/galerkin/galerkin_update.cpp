@@ -199,6 +199,7 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
       const std::uint8_t pointsBefore = e.coveredPoints;
       e.cover = cover;
       e.coveredPoints = coveredPointsOf(e);
+      if (e.parent < 0) e.exposedShare = exposedShareOf(e);
       if (cover != before || e.coveredPoints != pointsBefore) {
         ++lastUpdate_.coverChanged;
         if (move.elementChanged[index] == Move::kUnchanged) {
