@@ -15,9 +15,8 @@
 // --galerkin: the Galerkin core (radiosity/galerkin/) instead of the hierarchical solver with its
 // final gather; --repeat N solves each tolerance N times and reports the fastest; --hidden-weight
 // sets how many times a link's partly hidden transfer counts in its oracle, --whole-hidden-weight
-// that of a pair of elements found wholly hidden; --worst N lists the N
-// points with the largest errors under each row (either solver); --by-polygon each receiver's mean
-// signed indirect error (Galerkin).
+// that of a pair found wholly hidden; --worst N lists the N points with the largest errors under
+// each row (either solver); --by-polygon each receiver's mean signed indirect error (Galerkin).
 // --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
 // with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the

@@ -11,6 +11,7 @@
 
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/base/split_mix.h"
+#include "penumbra/geometry/cosine_direction.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/path_traced_reference.h"
 #include "penumbra/scene/receiver_sampling.h"
@@ -174,30 +175,27 @@ TEST(GalerkinRadiosity, ParallelSquaresMatchClosedForm) {
 
 // The share of polygon `source`'s Lambertian emission whose first hit is the front of each
 // polygon, by cosine-distributed rays from uniform points of it: an independent count (its own
-// ray-triangle tests, none of the solver's or the ray caster's code).
+// ray-triangle tests, none of the solver's or the ray caster's code; the directions are
+// geometry/cosine_direction.h's, which no visibility reads).
 std::vector<double> emissionShares(const PosedScene& scene, PolygonId source, int rays) {
   const WorldPolygon& from = scene.polygons[size_t(source)];
-  const Vec3 n = from.plane.normal;
-  const Vec3 t1 = normalize(cross(n, std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
-  const Vec3 t2 = cross(n, t1);
   std::vector<double> areas;  // the fan's triangles
   for (size_t i = 1; i + 1 < from.vertices.size(); ++i)
     areas.push_back(length(
         cross(from.vertices[i] - from.vertices[0], from.vertices[i + 1] - from.vertices[0])));
+  const double totalArea = std::accumulate(areas.begin(), areas.end(), 0.0);
   std::vector<double> shares(scene.polygons.size());
   SplitMix random(7);
-  const auto uniform = [&] { return random.uniform(); };
   for (int ray = 0; ray < rays; ++ray) {
-    double pick = uniform() * std::accumulate(areas.begin(), areas.end(), 0.0);
+    double pick = random.uniform() * totalArea;
     size_t t = 0;
     while (t + 1 < areas.size() && pick > areas[t]) pick -= areas[t++];
-    double u = uniform(), v = uniform();
+    double u = random.uniform(), v = random.uniform();
     if (u + v > 1) u = 1 - u, v = 1 - v;
     const Vec3 o = from.vertices[0] + (from.vertices[t + 1] - from.vertices[0]) * u +
                    (from.vertices[t + 2] - from.vertices[0]) * v;
-    const double r1 = uniform(), phi = 2 * std::numbers::pi * uniform();
-    const Vec3 d = t1 * (std::sqrt(r1) * std::cos(phi)) + t2 * (std::sqrt(r1) * std::sin(phi)) +
-                   n * std::sqrt(1 - r1);
+    const double radius = random.uniform(), turn = random.uniform();
+    const Vec3 d = cosineDirection(from.plane.normal, radius, turn);
     double nearest = std::numeric_limits<double>::infinity();
     int hit = -1;
     for (const WorldPolygon& p : scene.polygons) {

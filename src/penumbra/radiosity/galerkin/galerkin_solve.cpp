@@ -107,6 +107,12 @@ void carryLink(State& state, Elements& elements, Clusters& clusters, const Link&
   }
 }
 
+// What a root element takes of the irradiance that arrived on its cluster's lobes: as it faces,
+// on its exposed part (what a polygon in contact covers takes nothing; addLobes gives likewise).
+Rgb takenFromLobes(const AxisLobes& lobes, const GalerkinRadiosity::GElement& root) {
+  return irradianceOn(lobes, root.shape.normal) * root.exposedShare;
+}
+
 }  // namespace
 
 void GalerkinRadiosity::pullEmission(NodeRef n) {
@@ -525,12 +531,9 @@ double GalerkinRadiosity::pushPull(NodeRef n, const LinearRgb& arrived,
       if (child.isCluster()) {
         change = std::max(change, pushPull(child, {}, a, largestReflected));
       } else {
-        // A root element takes what arrived on the lobes as it faces, on its exposed part.
-        const GElement& root = elements_[child.index];
         change = std::max(
-            change,
-            pushPull(child, {irradianceOn(a, root.shape.normal) * root.exposedShare, Rgb{}, Rgb{}},
-                     {}, largestReflected));
+            change, pushPull(child, {takenFromLobes(a, elements_[child.index]), Rgb{}, Rgb{}}, {},
+                             largestReflected));
       }
       const Node& c = nodeOf(child);
       radiosity += c.radiosity[0] * area(child);
@@ -595,9 +598,8 @@ void GalerkinRadiosity::storeIrradiance(NodeRef n, const LinearRgb& direct,
         storeIrradiance(child, {}, {}, d, i);
       } else {
         const GElement& root = elements_[child.index];
-        storeIrradiance(
-            child, {irradianceOn(d, root.shape.normal) * root.exposedShare, Rgb{}, Rgb{}},
-            {irradianceOn(i, root.shape.normal) * root.exposedShare, Rgb{}, Rgb{}}, {}, {});
+        storeIrradiance(child, {takenFromLobes(d, root), Rgb{}, Rgb{}},
+                        {takenFromLobes(i, root), Rgb{}, Rgb{}}, {}, {});
       }
     }
     return;
