@@ -72,6 +72,7 @@ struct Options {
   int repeat = 1;                 // Galerkin: solves per tolerance, the fastest one's time reported
   double hiddenWeight = -1;       // Galerkin: GalerkinOptions::hiddenWeight (negative: its default)
   double wholeHiddenWeight = -1;  // Galerkin: GalerkinOptions::wholeHiddenWeight (likewise)
+  double directionWeight = -1;    // Galerkin: GalerkinOptions::directionWeight (likewise)
   int visibilityRays = 0;         // 0: the solver's default
   int gatherRays = 0;
   int worst = 0;           // the points with the largest errors, listed under each row
@@ -227,6 +228,7 @@ void galerkinRow(const DynamicScene& live, const std::vector<OpenPoint>& points,
   options.threads = o.threads;
   if (o.hiddenWeight >= 0) options.hiddenWeight = o.hiddenWeight;
   if (o.wholeHiddenWeight >= 0) options.wholeHiddenWeight = o.wholeHiddenWeight;
+  if (o.directionWeight >= 0) options.directionWeight = o.directionWeight;
   GalerkinRadiosity solver(options);
   // Solves of a few milliseconds vary with the machine's load: the fastest of --repeat.
   double seconds = std::numeric_limits<double>::infinity();
@@ -381,6 +383,8 @@ int main(int argc, char** argv) {
       o.hiddenWeight = std::stod(next());
     else if (arg == "--whole-hidden-weight")
       o.wholeHiddenWeight = std::stod(next());
+    else if (arg == "--direction-weight")
+      o.directionWeight = std::stod(next());
     else if (arg == "--visibility-rays")
       o.visibilityRays = std::stoi(next());
     else if (arg == "--gather-rays")

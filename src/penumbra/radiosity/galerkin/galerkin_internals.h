@@ -30,6 +30,10 @@ struct GalerkinRadiosity::EndTerms {
   // The ends can exchange light (canExchange) but no point pair faces: what the transfer may be
   // where the cubature points do not look (0 when some pair faces).
   double blindSpread = 0;
+  // A cluster end: the transfer a surface facing the other end could take, times how far the
+  // directions between the ends' points stray from the one the lobes use (GalerkinOptions::
+  // directionWeight).
+  double wideSpread = 0;
 };
 
 struct GalerkinRadiosity::Estimate {

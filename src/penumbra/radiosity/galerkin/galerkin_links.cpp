@@ -214,6 +214,29 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       }
     }
     ends.coveredHighest = coveredHighest;
+    // A cluster end takes or gives its light along the one direction between the ends' centres
+    // (its lobes): the error is what a surface facing the other end could take (the kernel with
+    // the cluster's cosine 1, at most the whole source's light) times how far the directions
+    // between the points stray from that one (1 − the least cosine).
+    if ((receiver.isCluster || source.isCluster) && options_.directionWeight > 0) {
+      const Vec3 between = bounds(s).center() - bounds(r).center();
+      const Vec3 axis = length(between) > 0 ? normalize(between) : Vec3{0, 0, 1};
+      double leastCosine = 1, facing = 0;
+      for (int i = 0; i < receiver.count; ++i)
+        for (int j = 0; j < source.count; ++j) {
+          const Vec3 d = source.points[j] - receiver.points[i];
+          const double r2 = dot(d, d);
+          if (!(r2 > 0)) continue;
+          const double r1 = std::sqrt(r2);
+          leastCosine = std::min(leastCosine, dot(d, axis) / r1);
+          const double cx = receiver.isCluster ? 1 : dot(receiver.normal, d) / r1;
+          const double cy = source.isCluster ? 1 : -dot(source.normal, d) / r1;
+          if (cx > 0 && cy > 0)
+            facing += receiver.weights[i] * source.weights[j] *
+                      std::min(1.0, sourceArea * cx * cy / (std::numbers::pi * r2));
+        }
+      ends.wideSpread = options_.directionWeight * (1 - leastCosine) * facing;
+    }
     // No point pair faces, yet the ends can exchange light (each has a point in front of the
     // other): the cubature points lie where the other end is behind them, the estimate reads
     // zero with zero spread, and the oracle would never split the pair. In the Cornell box a
@@ -313,6 +336,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   e.spread = highest - lowest;
   if (e.ends.near) e.spread = std::max(e.spread, e.ends.nearSpread);
   e.spread = std::max(e.spread, e.ends.blindSpread);
+  e.spread = std::max(e.spread, e.ends.wideSpread);
   // Over a partly covered end the transfer runs from nothing (under the cover) to what the
   // covered points would receive in the open: the spread a linear function cannot follow, so that
   // refinement splits along the contact's outline even where no cubature point is in the open.

@@ -355,7 +355,7 @@ RadiosityMesh GalerkinRadiosity::leafMesh() const {
 Rgb GalerkinRadiosity::emittedPower() const {
   Rgb power;
   for (const GElement& e : elements_)
-    if (e.parent < 0) power += e.node.emission * e.area;
+    if (e.parent < 0) power += e.node.emission * (e.area * e.exposedShare);
   return power;
 }
 

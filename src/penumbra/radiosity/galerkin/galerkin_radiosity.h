@@ -126,6 +126,13 @@ struct GalerkinOptions {
   // lost 5.3% of its light, most of it to the bookshelves in front of it whose pairs with it were
   // wholly hidden at cluster level; 3.0% with weight 1 (docs/radiosity.md, "Session 27").
   double wholeHiddenWeight = 1;
+  // How many times the spread of directions between a pair's points counts in the oracle where
+  // an end is a cluster: its lobes take or give all the light along one direction (between the
+  // ends' centres), and a wide source around a cluster (the floor under a chair, the room's static
+  // cluster around a moving object) sends along many. With the weight 0 the chair room's moving
+  // chair took 30% too little of the floor's light (its legs' sides and its seat's underside, lit
+  // from below, faced away from the one direction); 7% with 1 (docs/radiosity.md, "Session 28").
+  double directionWeight = 1;
   // Frame-rate control for the update (Drettakis & Sillion 1997, §6): past this many seconds
   // into an update (0: no limit), it splits no more links and runs no more refinement passes;
   // the links it would have split stay links, carrying light at their coarser level, and later
@@ -263,7 +270,8 @@ class GalerkinRadiosity {
   // linear functions of the leaves of its polygon that meet there.
   RadiosityMesh leafMesh() const;
 
-  // Power emitted and absorbed ((1 − ρ) ∫ E over the leaves), W per channel.
+  // Power emitted (over the polygons' exposed parts: a part a polygon in contact covers emits
+  // nothing) and absorbed ((1 − ρ) ∫ E over the leaves), W per channel.
   Rgb emittedPower() const;
   Rgb absorbedPower() const;
 
