@@ -181,7 +181,14 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
         // more than the source emits.
         const double most =
             (receiver.isCluster ? kClusterCosine : 1) * (source.isCluster ? kClusterCosine : 1);
-        for (int j = 0; j < source.count; ++j) transfers[i][j] = std::min(most, transfers[i][j]);
+        for (int j = 0; j < source.count; ++j) {
+          transfers[i][j] = std::min(most, transfers[i][j]);
+          // An element end's covered points neither receive nor send, as between elements.
+          if (receiverCovered[i] || sourceCovered[j]) {
+            coveredHighest = std::max(coveredHighest, transfers[i][j]);
+            transfers[i][j] = 0;
+          }
+        }
       }
     }
     // Where two elements nearly touch face to face (a sideboard's back 1 cm from the wall), the
