@@ -125,6 +125,9 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   const EndPoints source = s.isCluster() ? clusterPoints(clusters_[s.index].structure.bounds)
                                          : elementPoints(elements_[s.index]);
   const double sourceArea = area(s);
+  // Unit, from the receiver's centre to the source's: the direction a cluster end's lobes use.
+  const Vec3 between = bounds(s).center() - bounds(r).center();
+  const Vec3 direction = length(between) > 0 ? normalize(between) : Vec3{0, 0, 1};
   const bool mayBeHidden = candidates.count > 0;
   if (!mayBeHidden) ++counters.unoccludedLinks;
   // What the two ends alone give (kept by the last update's walk for a pair whose ends are as
@@ -226,8 +229,6 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
     // the cluster's cosine 1, at most the whole source's light) times how far the directions
     // between the points stray from that one (1 − the least cosine).
     if ((receiver.isCluster || source.isCluster) && options_.directionWeight > 0) {
-      const Vec3 between = bounds(s).center() - bounds(r).center();
-      const Vec3 axis = length(between) > 0 ? normalize(between) : Vec3{0, 0, 1};
       double leastCosine = 1, facing = 0;
       for (int i = 0; i < receiver.count; ++i)
         for (int j = 0; j < source.count; ++j) {
@@ -235,7 +236,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
           const double r2 = dot(d, d);
           if (!(r2 > 0)) continue;
           const double r1 = std::sqrt(r2);
-          leastCosine = std::min(leastCosine, dot(d, axis) / r1);
+          leastCosine = std::min(leastCosine, dot(d, direction) / r1);
           const double cx = receiver.isCluster ? 1 : dot(receiver.normal, d) / r1;
           const double cy = source.isCluster ? 1 : -dot(source.normal, d) / r1;
           if (cx > 0 && cy > 0)
@@ -355,8 +356,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   const double scale = (s.isCluster() ? 1 / (kClusterCosine * sourceArea) : 1) *
                        (r.isCluster() ? 1 / kClusterCosine : 1);
   for (double& k : e.k) k *= scale;
-  const Vec3 between = bounds(s).center() - bounds(r).center();
-  e.direction = length(between) > 0 ? normalize(between) : Vec3{0, 0, 1};
+  e.direction = direction;
   return e;
 }
 
