@@ -253,6 +253,21 @@ std::vector<double> receivedShares(const DynamicScene& live, PolygonId emitter, 
   return received;
 }
 
+// The index of the scene's object named `name` (-1: none).
+int objectNamed(const Scene& scene, const std::string& name) {
+  for (size_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].name == name) return int(o);
+  return -1;
+}
+
+// An object's share: the sum of its polygons' shares.
+double objectShare(const PosedScene& scene, const std::vector<double>& shares, int object) {
+  double sum = 0;
+  for (const WorldPolygon& p : scene.polygons)
+    if (p.objectIndex == object) sum += shares[size_t(p.id)];
+  return sum;
+}
+
 // The Cornell box with one polygon `side` emitting: each polygon's share of its light, the
 // solver's against an independent ray count.
 void expectSharesOfOneSidesLightAsCounted(PolygonId side, double tolerance) {
@@ -299,21 +314,15 @@ TEST(GalerkinRadiosity, CoveredSurfacesTakeNoLightFromTheirCluster) {
   const PolygonId ceiling = 1, seat = 458;  // the sofa's seat, under its cushion
   const Scene scene =
       withOneEmitter(loadScene(scenePath("chair-room/furnished-room.json")), ceiling);
-  int sofa = -1;
-  for (size_t o = 0; o < scene.objects.size(); ++o)
-    if (scene.objects[o].name == "sofa") sofa = int(o);
+  const int sofa = objectNamed(scene, "sofa");
   ASSERT_GE(sofa, 0);
   const DynamicScene live(scene, 0);
   ASSERT_LT(live.posed().polygons[size_t(ceiling)].plane.normal.y, -0.99);
   ASSERT_EQ(live.posed().polygons[size_t(seat)].objectIndex, sofa);
   const std::vector<double> received = receivedShares(live, ceiling, 1e-3);
   const std::vector<double> counted = emissionShares(live.posed(), ceiling, 100'000);
-  double sofaReceived = 0, sofaCounted = 0;
-  for (const WorldPolygon& p : live.posed().polygons)
-    if (p.objectIndex == sofa) {
-      sofaReceived += received[size_t(p.id)];
-      sofaCounted += counted[size_t(p.id)];
-    }
+  const double sofaReceived = objectShare(live.posed(), received, sofa);
+  const double sofaCounted = objectShare(live.posed(), counted, sofa);
   std::printf("sofa %.4f of the ceiling's light, counted %.4f; its seat %.4f, counted %.4f\n",
               sofaReceived, sofaCounted, received[size_t(seat)], counted[size_t(seat)]);
   EXPECT_NEAR(sofaReceived, sofaCounted, 0.005);
@@ -329,20 +338,14 @@ TEST(GalerkinRadiosity, CoveredSurfacesTakeNoLightFromTheirCluster) {
 TEST(GalerkinRadiosity, AChairStandingOnTheFloorTakesItsLightFromAllAround) {
   const PolygonId floor = 0;
   const Scene scene = withOneEmitter(loadScene(scenePath("chair-room/chair-room.json")), floor);
-  int chair = -1;
-  for (size_t o = 0; o < scene.objects.size(); ++o)
-    if (scene.objects[o].name == "chair-moving") chair = int(o);
+  const int chair = objectNamed(scene, "chair-moving");
   ASSERT_GE(chair, 0);
   const DynamicScene live(scene, 0);
   ASSERT_GT(live.posed().polygons[size_t(floor)].plane.normal.y, 0.99);
   const std::vector<double> received = receivedShares(live, floor, 1e-3);
   const std::vector<double> counted = emissionShares(live.posed(), floor, 200'000);
-  double chairReceived = 0, chairCounted = 0;
-  for (const WorldPolygon& p : live.posed().polygons)
-    if (p.objectIndex == chair) {
-      chairReceived += received[size_t(p.id)];
-      chairCounted += counted[size_t(p.id)];
-    }
+  const double chairReceived = objectShare(live.posed(), received, chair);
+  const double chairCounted = objectShare(live.posed(), counted, chair);
   std::printf("the chair: %.4f of the floor's light, counted %.4f\n", chairReceived, chairCounted);
   EXPECT_NEAR(chairReceived, chairCounted, 0.0025);
 }
