@@ -173,26 +173,20 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
         highestForm = std::max(highestForm, exact);
         for (int j = 0; j < source.count; ++j)
           transfers[i][j] = cubatureSum > 0 ? transfers[i][j] * (exact / cubatureSum) : exact;
-        for (int j = 0; j < source.count; ++j)
-          if (receiverCovered[i] || sourceCovered[j]) {
-            coveredHighest = std::max(coveredHighest, transfers[i][j]);
-            transfers[i][j] = 0;
-          }
       } else {
         // A pair's transfer is at most what a source facing the receiver wholly would send (1, in
         // units of the cluster cosines): where the points nearly meet the bare kernel would send
         // more than the source emits.
         const double most =
             (receiver.isCluster ? kClusterCosine : 1) * (source.isCluster ? kClusterCosine : 1);
-        for (int j = 0; j < source.count; ++j) {
-          transfers[i][j] = std::min(most, transfers[i][j]);
-          // An element end's covered points neither receive nor send, as between elements.
-          if (receiverCovered[i] || sourceCovered[j]) {
-            coveredHighest = std::max(coveredHighest, transfers[i][j]);
-            transfers[i][j] = 0;
-          }
-        }
+        for (int j = 0; j < source.count; ++j) transfers[i][j] = std::min(most, transfers[i][j]);
       }
+      // An element end's covered points neither receive nor send (a cluster end has none).
+      for (int j = 0; j < source.count; ++j)
+        if (receiverCovered[i] || sourceCovered[j]) {
+          coveredHighest = std::max(coveredHighest, transfers[i][j]);
+          transfers[i][j] = 0;
+        }
     }
     // Where two elements nearly touch face to face (a sideboard's back 1 cm from the wall), the
     // kernel is a step from nothing to everything across the receiver that all its Gauss points

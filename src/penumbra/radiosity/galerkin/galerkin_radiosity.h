@@ -313,7 +313,8 @@ class GalerkinRadiosity {
     // changes these.
     std::uint8_t coveredPoints = 0;
     // A root element: the share of its area no polygon in contact covers, by which it takes what
-    // arrives on its cluster's lobes and gives to what they send (exposedShareOf).
+    // arrives on its cluster's lobes and gives them its emission (exposedShareOf; its reflected
+    // light it gives whole: addLobes).
     float exposedShare = 1;
     bool isLeaf() const { return firstChild < 0; }
   };

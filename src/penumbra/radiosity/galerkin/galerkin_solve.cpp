@@ -137,7 +137,8 @@ LinearRgb sentReflection(const GalerkinRadiosity::GElement& e) {
 }
 
 // What a root element takes of the irradiance that arrived on its cluster's lobes: as it faces,
-// on its exposed part (what a polygon in contact covers takes nothing; addLobes gives likewise).
+// on its exposed part (what a polygon in contact covers takes nothing; addLobes gives emission
+// likewise).
 Rgb takenFromLobes(const AxisLobes& lobes, const GalerkinRadiosity::GElement& root) {
   return irradianceOn(lobes, root.shape.normal) * root.exposedShare;
 }
