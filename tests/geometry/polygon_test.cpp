@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 #include <utility>
 
 #include "penumbra/geometry/predicates.h"
+#include "penumbra/geometry/triangulation.h"
 
 namespace penumbra {
 namespace {
@@ -128,6 +131,80 @@ TEST(Polygon, ManyVerticesCheckedBySweepAsByEveryPair) {
   const auto defect = findPolygonDefect(folded);
   ASSERT_TRUE(defect);
   EXPECT_NE(defect->find("self-overlapping polygon: edges 9 and 10"), std::string::npos) << *defect;
+}
+
+TEST(Polygon, SegmentCrossesPolygonExcludesEndsOnItsPlane) {
+  const Polygon3 square{{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+  const Plane plane = supportingPlane(square);
+  const double tolerance = 1e-7;
+  const auto crosses = [&](const Vec3& a, const Vec3& b) {
+    return segmentCrossesPolygon(a, b, square, plane, tolerance);
+  };
+  EXPECT_TRUE(crosses({0, 0, 0}, {0, 0, 3}));
+  EXPECT_TRUE(crosses({0, 0, 3}, {0.3, -0.9, 0}));
+  EXPECT_FALSE(crosses({5, 5, 0}, {5, 5, 3}));
+  EXPECT_FALSE(crosses({0, 0, 0}, {0, 0, 0.5}));  // short of it
+  // Ending on its plane, from either side, or within the tolerance of it: not a crossing.
+  EXPECT_FALSE(crosses({0, 0, 0}, {0.3, 0.2, 1}));
+  EXPECT_FALSE(crosses({0.3, 0.2, 1.5}, {0.3, 0.2, 1}));
+  EXPECT_FALSE(crosses({0, 0, 0}, {0.3, 0.2, 1 + 0.5 * tolerance}));
+  EXPECT_TRUE(crosses({0, 0, 0}, {0.3, 0.2, 1 + 1e-3}));
+  // Lying in its plane.
+  EXPECT_FALSE(crosses({-0.9, -0.9, 1}, {0.9, 0.8, 1}));
+}
+
+// Tilted non-convex polygons against an oracle of their own: the crossing point found inside one
+// of the triangles of their ear-clipped triangulation (barycentric coordinates), away from every
+// edge by 1e-7.
+TEST(Polygon, SegmentCrossesPolygonAgreesWithItsTriangles) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const Polygon2 star = [] {
+    Polygon2 loop;
+    for (int k = 0; k < 10; ++k) {
+      const double angle = k * std::numbers::pi / 5, radius = k % 2 ? 0.4 : 1.0;
+      loop.push_back({radius * std::cos(angle), radius * std::sin(angle)});
+    }
+    return loop;
+  }();
+  int compared = 0, crossed = 0;
+  for (int shape = 0; shape < 40; ++shape) {
+    const Vec3 n = normalize(Vec3{unit(rng), unit(rng), unit(rng)});
+    const PlaneFrame frame =
+        PlaneFrame::fromPlane(Plane::fromPointNormal({}, n), Vec3{unit(rng), unit(rng), unit(rng)});
+    Polygon3 polygon;
+    for (const Vec2& q : star) polygon.push_back(frame.toWorld(q));
+    if (shape % 2) polygon = {polygon[0], polygon[2], polygon[3], polygon[5]};  // a quad, dented
+    const Plane plane = supportingPlane(polygon);
+    const auto triangles = triangulate(polygon);
+    ASSERT_FALSE(triangles.empty());
+    for (int i = 0; i < 500; ++i) {
+      const Vec3 a = frame.origin + Vec3{unit(rng), unit(rng), unit(rng)} * 1.5;
+      const Vec3 b = frame.origin + Vec3{unit(rng), unit(rng), unit(rng)} * 1.5;
+      const double da = plane.signedDistance(a), db = plane.signedDistance(b);
+      if (std::abs(da) < 1e-6 || std::abs(db) < 1e-6) continue;
+      bool expected = false, ambiguous = false;
+      if ((da > 0) != (db > 0)) {
+        const Vec3 p = a + (b - a) * (da / (da - db));
+        for (const auto& t : triangles) {
+          const Vec3 &u = polygon[t[0]], &v = polygon[t[1]], &w = polygon[t[2]];
+          const double whole = dot(cross(v - u, w - u), plane.normal);
+          const std::array<double, 3> weights{dot(cross(v - p, w - p), plane.normal) / whole,
+                                              dot(cross(w - p, u - p), plane.normal) / whole,
+                                              dot(cross(u - p, v - p), plane.normal) / whole};
+          const double least = std::min({weights[0], weights[1], weights[2]});
+          if (std::abs(least) < 1e-7) ambiguous = true;
+          if (least > 0) expected = true;
+        }
+      }
+      if (ambiguous) continue;
+      ++compared;
+      crossed += expected;
+      EXPECT_EQ(segmentCrossesPolygon(a, b, polygon, plane, 1e-9), expected) << shape << " " << i;
+    }
+  }
+  EXPECT_GT(compared, 19000);
+  EXPECT_GT(crossed, 1500);
 }
 
 TEST(Polygon2, ContainsAndSignedArea) {

@@ -129,6 +129,28 @@ bool containsPoint(const Polygon2& polygon, const Vec2& p) {
   return inside;
 }
 
+bool segmentCrossesPolygon(const Vec3& a, const Vec3& b, const Polygon3& polygon,
+                           const Plane& plane, double tolerance) {
+  const double da = plane.signedDistance(a), db = plane.signedDistance(b);
+  if (std::abs(da) <= tolerance || std::abs(db) <= tolerance || (da > 0) == (db > 0)) return false;
+  const Vec3 p = a + (b - a) * (da / (da - db));
+  // Even-odd in the coordinate plane the polygon's normal is most nearly perpendicular to: the
+  // projection keeps the loop simple.
+  const Vec3& n = plane.normal;
+  const int drop = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? 0
+                   : std::abs(n.y) >= std::abs(n.z)                                 ? 1
+                                                                                    : 2;
+  const int u = drop == 0 ? 1 : 0, v = drop == 2 ? 1 : 2;
+  const double px = p[u], py = p[v];
+  bool inside = false;
+  for (size_t i = 0, count = polygon.size(), j = count - 1; i < count; j = i++) {
+    const double ax = polygon[i][u], ay = polygon[i][v];
+    const double bx = polygon[j][u], by = polygon[j][v];
+    if ((ay > py) != (by > py) && px < (bx - ax) * (py - ay) / (by - ay) + ax) inside = !inside;
+  }
+  return inside;
+}
+
 Polygon3 withoutRepeatedVertices(const Polygon3& polygon) {
   Polygon3 out;
   for (const Vec3& p : polygon)

@@ -62,6 +62,13 @@ bool isNearBoundary(const Polygon2& polygon, const Vec2& point, double tolerance
 std::optional<std::string> findPolygonDefect(const Polygon3& polygon,
                                              double relativePlanarityTolerance = 1e-6);
 
+// Does the closed segment ab cross the polygon (lying in `plane`) at a point inside it (even-odd)?
+// A polygon whose plane passes within `tolerance` of a or of b does not count: the segment starts
+// or ends on it (RayCaster::isOccluded's rule). Crossings on the polygon's boundary may go either
+// way.
+bool segmentCrossesPolygon(const Vec3& a, const Vec3& b, const Polygon3& polygon,
+                           const Plane& plane, double tolerance);
+
 // Removes consecutive duplicate vertices (and a closing duplicate of the first).
 Polygon3 withoutRepeatedVertices(const Polygon3& polygon);
 

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "penumbra/base/check.h"
+#include "penumbra/geometry/polygon.h"
 #include "penumbra/radiosity/galerkin/galerkin_internals.h"
 #include "penumbra/radiosity/point_form_factor.h"
 #include "penumbra/spatial/ray_caster.h"
@@ -22,6 +23,13 @@ constexpr double kClusterCosine = 0.25;
 // Element ends nearer than this share of the larger one's size have their receiver's form factor
 // sampled at its corners too (GalerkinRadiosity::estimate).
 constexpr double kNearShare = 0.25;
+
+// A receiver point farther from an element source's centre than this many times its size takes
+// the cubature's form factor instead of the exact one (Lambert's formula, a sixth of a Cornell box
+// solve): measured on the Cornell box and the chair rooms at 1e-2 ... 1e-4, the same links within
+// 0.1%, the same median and 95th percentile errors within 0.04%, and absorbed/emitted within
+// 0.0004.
+constexpr double kFarSizes = 2;
 
 // The points where a link samples one of its ends.
 struct EndPoints {
@@ -154,6 +162,13 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
     // lie under the covering polygon reads zero everywhere, while the rest of it may be in the
     // open.
     double coveredHighest = 0;
+    Vec3 sourceCentre;
+    double sourceFar = 0;
+    if (!receiver.isCluster && !source.isCluster) {
+      const Box3 box = elements_[s.index].shape.bounds();
+      sourceCentre = box.center();
+      sourceFar = kFarSizes * box.diagonalLength();
+    }
     for (int i = 0; i < receiver.count; ++i) {
       const Vec3& x = receiver.points[i];
       double cubatureSum = 0;
@@ -168,7 +183,12 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
         cubatureSum += source.weights[j] * transfers[i][j];
       }
       if (!receiver.isCluster && !source.isCluster) {
-        const double exact = pointToElementFormFactor(x, receiver.normal, elements_[s.index].shape);
+        // Far from the source the cubature's sum is the form factor already (the kernel is
+        // smooth over it): the exact one only where the point is near.
+        const bool far = cubatureSum > 0 && length(x - sourceCentre) > sourceFar;
+        const double exact =
+            far ? cubatureSum
+                : pointToElementFormFactor(x, receiver.normal, elements_[s.index].shape);
         lowestForm = std::min(lowestForm, exact);
         highestForm = std::max(highestForm, exact);
         for (int j = 0; j < source.count; ++j)
@@ -307,15 +327,23 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
             hidden = (reuse->hiddenPairs & bit) != 0;
             ++counters.reusedRays;
           } else {
-            // The ray caster is asked only when the segment meets a candidate's box: most
-            // segments of a link whose shaft holds a polygon pass beside it.
-            const bool mayMeet =
-                testEveryRay ||
-                std::any_of(candidateBoxes.begin(), candidateBoxes.end(),
-                            [&](const Box3& box) { return box.meetsSegment(a, b); });
-            if (mayMeet) {
+            if (testEveryRay) {
               ++counters.visibilityRays;
               hidden = rays_->isOccluded(a, b);
+            } else {
+              // A few candidates: the segment is tested against those whose boxes it meets (most
+              // segments of a link whose shaft holds a polygon pass beside it), each polygon
+              // exactly, by the ray caster's rule, without a ray through the whole scene (a
+              // ray cost several times a polygon's test: a quarter of a Cornell box solve).
+              bool asked = false;
+              for (size_t k = 0; k < candidateBoxes.size() && !hidden; ++k) {
+                if (!candidateBoxes[k].meetsSegment(a, b)) continue;
+                asked = true;
+                const WorldPolygon& polygon = scene_.polygons[(*candidates.ids)[k]];
+                hidden =
+                    segmentCrossesPolygon(a, b, polygon.vertices, polygon.plane, rays_->epsilon());
+              }
+              if (asked) ++counters.visibilityRays;
             }
           }
           if (hidden) {
