@@ -23,6 +23,8 @@ Box3 boxOf(const Vec3& lo, const Vec3& hi) {
 void expectMeets(const Box3& box, const Vec3& a, const Vec3& b, bool expected) {
   EXPECT_EQ(box.meetsSegment(a, b), expected) << "segment " << a << " -> " << b;
   EXPECT_EQ(box.meetsSegment(b, a), expected) << "segment " << b << " -> " << a;
+  EXPECT_EQ(SegmentBoxTest(a, b).meets(box), expected) << "prepared " << a << " -> " << b;
+  EXPECT_EQ(SegmentBoxTest(b, a).meets(box), expected) << "prepared " << b << " -> " << a;
 }
 
 // Distance from the closed segment ab to the box: the minimum of the convex function
@@ -226,6 +228,8 @@ TEST(Box3MeetsSegment, RandomSegmentsAgreeWithSamplingAndDistance) {
     if (i % 7 == 2) b.x = a.x, b.z = a.z;
     const bool meets = box.meetsSegment(a, b);
     EXPECT_EQ(box.meetsSegment(b, a), meets);
+    // The prepared segment (its reciprocals made once) decides as the brute force does too.
+    const bool prepared = SegmentBoxTest(a, b).meets(box);
     // A sample well inside the box (not within 1e-9 of its boundary) decides "meets".
     const Box3 shrunk = box.expanded(-1e-9);
     bool sampledInside = false;
@@ -236,10 +240,12 @@ TEST(Box3MeetsSegment, RandomSegmentsAgreeWithSamplingAndDistance) {
     if (sampledInside) {
       ++decidedTrue;
       EXPECT_TRUE(meets) << "box " << box.min << " " << box.max << " segment " << a << " " << b;
+      EXPECT_TRUE(prepared) << "box " << box.min << " " << box.max << " segment " << a << " " << b;
     } else if (gap > 1e-9) {
       ++decidedFalse;
       EXPECT_FALSE(meets) << "box " << box.min << " " << box.max << " segment " << a << " " << b
                           << " gap " << gap;
+      EXPECT_FALSE(prepared) << "box " << box.min << " " << box.max << " segment " << a << " " << b;
     }
   }
   // The brute force decides almost every random case, both ways.

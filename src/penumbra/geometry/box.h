@@ -2,6 +2,7 @@
 // Axis-aligned bounding boxes. A default box is empty (min > max) and absorbs the first point.
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <utility>
 
@@ -70,6 +71,44 @@ struct Box3 {
     r.max += Vec3{margin, margin, margin};
     return r;
   }
+};
+
+// A segment prepared to be tested against many boxes: its own box and the reciprocals of its
+// direction made once, where Box3::meetsSegment divides at every box (a link's segments are
+// tested against each of its occluder candidates' boxes). The same answer as meetsSegment but
+// where the segment passes within rounding of a box's face.
+class SegmentBoxTest {
+ public:
+  SegmentBoxTest(const Vec3& a, const Vec3& b) : origin_(a) {
+    for (int k = 0; k < 3; ++k) {
+      low_[k] = std::min(a[k], b[k]);
+      high_[k] = std::max(a[k], b[k]);
+      const double d = b[k] - a[k];
+      parallel_[k] = d == 0;
+      inverse_[k] = d == 0 ? 0 : 1 / d;
+    }
+  }
+  bool meets(const Box3& box) const {
+    if (box.isEmpty()) return false;
+    for (int k = 0; k < 3; ++k)
+      if (high_[k] < box.min[k] || low_[k] > box.max[k]) return false;
+    // The segment's box meets the box: the slabs. An axis the segment runs across no length of
+    // was decided above.
+    double enter = 0, leave = 1;
+    for (int k = 0; k < 3; ++k) {
+      if (parallel_[k]) continue;
+      double t0 = (box.min[k] - origin_[k]) * inverse_[k];
+      double t1 = (box.max[k] - origin_[k]) * inverse_[k];
+      if (t0 > t1) std::swap(t0, t1);
+      enter = std::max(enter, t0);
+      leave = std::min(leave, t1);
+    }
+    return enter <= leave;
+  }
+
+ private:
+  Vec3 origin_, inverse_, low_, high_;
+  std::array<bool, 3> parallel_{};
 };
 
 // Distance from p to the nearest point of b (0 inside).

@@ -336,8 +336,9 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
               // exactly, by the ray caster's rule, without a ray through the whole scene (a
               // ray cost several times a polygon's test: a quarter of a Cornell box solve).
               bool asked = false;
+              const SegmentBoxTest segment(a, b);
               for (size_t k = 0; k < candidateBoxes.size() && !hidden; ++k) {
-                if (!candidateBoxes[k].meetsSegment(a, b)) continue;
+                if (!segment.meets(candidateBoxes[k])) continue;
                 asked = true;
                 const WorldPolygon& polygon = scene_.polygons[(*candidates.ids)[k]];
                 hidden =
