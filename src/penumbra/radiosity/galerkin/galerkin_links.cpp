@@ -103,7 +103,9 @@ std::vector<PolygonId> GalerkinRadiosity::shaftCandidates(
     NodeRef r, NodeRef s, const std::vector<PolygonId>& among) const {
   // Box-to-box shafts for every link: the polygon-to-polygon hull is tighter but cost a quarter
   // of the solve, and a segment is tested against each candidate's box before any ray anyway
-  // (measured: the same rays, the same solution, 25% faster).
+  // (measured: the same rays, the same solution, 25% faster). Most deep pairs inherit no
+  // candidates: no shaft to make.
+  if (among.empty()) return {};
   return candidatesIn(Shaft(bounds(r), bounds(s)), r, s, among);
 }
 
