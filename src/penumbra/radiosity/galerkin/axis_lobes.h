@@ -42,6 +42,32 @@ inline void addArriving(AxisLobes& lobes, const Rgb& flux, const Vec3& u) {
   for (int k = 0; k < 3; ++k) lobes[2 * k + (u[k] < 0 ? 1 : 0)] += flux * std::abs(u[k]);
 }
 
+// How a link meets a cluster end's lobes: per lobe, the weight of that lobe in the light the
+// cluster sends towards the link's other end, or in how the light arriving from it spreads over
+// the cluster's lobes. One direction u gives |u_k| on the lobe of u_k's sign (exact for a
+// surface facing an axis); a link weighs the directions of its point pairs by what each carries
+// (GalerkinRadiosity::estimate), so that a source seen over a wide angle (a floor under a chair)
+// is not taken along the one direction between the ends' centres.
+using LobeWeights = std::array<float, 6>;
+
+inline LobeWeights lobeWeightsOf(const Vec3& u) {
+  LobeWeights weights{};
+  for (int k = 0; k < 3; ++k) weights[2 * k + (u[k] < 0 ? 1 : 0)] = float(std::abs(u[k]));
+  return weights;
+}
+
+// What the lobes send with these weights (exitanceToward of each direction, weighed).
+inline Rgb exitanceToward(const AxisLobes& lobes, const LobeWeights& weights) {
+  Rgb sum;
+  for (int f = 0; f < 6; ++f) sum += lobes[f] * double(weights[f]);
+  return sum;
+}
+
+// Flux density `flux` arriving over a link whose directions these weights describe.
+inline void addArriving(AxisLobes& lobes, const Rgb& flux, const LobeWeights& weights) {
+  for (int f = 0; f < 6; ++f) lobes[f] += flux * double(weights[f]);
+}
+
 // The irradiance on a surface of unit normal n from what arrived on the lobes.
 inline Rgb irradianceOn(const AxisLobes& lobes, const Vec3& n) {
   Rgb sum;

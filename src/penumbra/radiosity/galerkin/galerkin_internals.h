@@ -39,10 +39,12 @@ struct GalerkinRadiosity::EndTerms {
 struct GalerkinRadiosity::Estimate {
   EndTerms ends;
   std::array<double, 9> k{};
-  double meanTransfer = 0;        // the mean point-pair transfer
-  double spread = 0;              // max − min of the point-pair transfers
-  double hiddenTransfer = 0;      // what the pairs found hidden would carry (weighted as the mean)
-  Vec3 direction;                 // unit, from the receiver's centre to the source's
+  double meanTransfer = 0;    // the mean point-pair transfer
+  double spread = 0;          // max − min of the point-pair transfers
+  double hiddenTransfer = 0;  // what the pairs found hidden would carry (weighted as the mean)
+  // A cluster receiver's lobes the arriving light spreads over, and a cluster source's lobes
+  // that send it (the pairs' directions, weighed by what each carries; axis_lobes.h).
+  LobeWeights receiverLobes{}, sourceLobes{};
   std::uint16_t hiddenPairs = 0;  // bit 4i + j: point pair (i, j) found hidden
   bool everyRay = false;          // a ray per pair, without the candidate-box test first
 };
@@ -119,7 +121,7 @@ struct GalerkinRadiosity::SolveState {
   struct Carried {
     NodeRef receiver, source;
     std::array<double, 9> k;
-    Vec3 direction;
+    LobeWeights receiverLobes, sourceLobes;
     int pair = 0;
   };
   bool valid = false;

@@ -303,6 +303,9 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   e.ends = reuse && reuse->ends ? *reuse->ends : endTermsNow();
   const std::array<std::array<double, 4>, 4>& transfers = e.ends.transfers;
   double lowest = std::numeric_limits<double>::infinity(), highest = 0;
+  // A cluster end's lobe weights: the point pairs' directions weighed by what they carry.
+  std::array<double, 6> receiverLobes{}, sourceLobes{};
+  double carried = 0;
   for (int i = 0; i < receiver.count; ++i) {
     const Vec3& x = receiver.points[i];
     for (int j = 0; j < source.count; ++j) {
@@ -359,6 +362,15 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       lowest = std::min(lowest, transfer);
       highest = std::max(highest, transfer);
       const double w = receiver.weights[i] * source.weights[j] * transfer;
+      if ((receiver.isCluster || source.isCluster) && w > 0) {
+        const Vec3 d = normalize(y - x);  // towards the source (w > 0: the points differ)
+        for (int k = 0; k < 3; ++k) {
+          const double along = std::abs(d[k]) * w;
+          receiverLobes[2 * k + (d[k] < 0 ? 1 : 0)] += along;
+          sourceLobes[2 * k + (d[k] > 0 ? 1 : 0)] += along;
+        }
+        carried += w;
+      }
       for (int beta = 0; beta < 3; ++beta)
         for (int alpha = 0; alpha < 3; ++alpha)
           e.k[beta * 3 + alpha] += w * receiver.basis[i][beta] * source.basis[j][alpha];
@@ -381,7 +393,15 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   const double scale = (s.isCluster() ? 1 / (kClusterCosine * sourceArea) : 1) *
                        (r.isCluster() ? 1 / kClusterCosine : 1);
   for (double& k : e.k) k *= scale;
-  e.direction = direction;
+  if (carried > 0) {
+    for (int f = 0; f < 6; ++f) {
+      if (r.isCluster()) e.receiverLobes[f] = float(receiverLobes[f] / carried);
+      if (s.isCluster()) e.sourceLobes[f] = float(sourceLobes[f] / carried);
+    }
+  } else {  // nothing carried: the direction between the centres (the weights carry nothing)
+    if (r.isCluster()) e.receiverLobes = lobeWeightsOf(direction);
+    if (s.isCluster()) e.sourceLobes = lobeWeightsOf(direction * -1.0);
+  }
   return e;
 }
 

@@ -345,9 +345,11 @@ class GalerkinRadiosity {
     // coefficient: a cluster source's is per unit of the exitance its lobes send towards the
     // receiver, a cluster receiver's is the flux density arriving along `direction`.
     std::array<double, 9> k{};
-    Vec3 direction;          // unit, from the receiver's centre to the source's (for cluster ends)
-    float meanTransfer = 0;  // the mean point-pair transfer (K[0][0])
-    float spread = 0;        // max − min of the point-pair transfers
+    // A cluster end's lobes: those the arriving light spreads over, those that send it
+    // (axis_lobes.h's LobeWeights, from the point pairs' directions).
+    LobeWeights receiverLobes{}, sourceLobes{};
+    float meanTransfer = 0;         // the mean point-pair transfer (K[0][0])
+    float spread = 0;               // max − min of the point-pair transfers
     float hiddenTransfer = 0;       // what its pairs found hidden would carry
     std::uint16_t hiddenPairs = 0;  // which point pairs were hidden (Estimate::hiddenPairs)
     bool everyRay = false;

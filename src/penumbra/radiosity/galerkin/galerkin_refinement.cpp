@@ -130,7 +130,8 @@ const GalerkinRadiosity::Candidates& GalerkinRadiosity::candidatesFor(int pair) 
 
 void GalerkinRadiosity::storeEstimate(GLink& link, const Estimate& e) {
   link.k = e.k;
-  link.direction = e.direction;
+  link.receiverLobes = e.receiverLobes;
+  link.sourceLobes = e.sourceLobes;
   link.meanTransfer = float(e.meanTransfer);
   link.spread = float(e.spread);
   link.hiddenTransfer = float(e.hiddenTransfer);

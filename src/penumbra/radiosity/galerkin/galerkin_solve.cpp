@@ -59,12 +59,12 @@ template <class State, class Link>
 void carryChange(State& state, const Link& link, const LinearRgb& from, const AxisLobes& lobes) {
   LinearRgb source{};
   if (link.source.isCluster())
-    source[0] = exitanceToward(lobes, link.direction * -1.0);
+    source[0] = exitanceToward(lobes, link.sourceLobes);
   else
     source = from;
   const LinearRgb arriving = arrivingOver(link, source);
   if (link.receiver.isCluster()) {
-    addArriving(state.clusterGathered[link.receiver.index], arriving[0], link.direction);
+    addArriving(state.clusterGathered[link.receiver.index], arriving[0], link.receiverLobes);
   } else {
     LinearRgb& to = state.gathered[link.receiver.index];
     for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
@@ -78,12 +78,12 @@ void carryDirect(State& state, Elements& elements, Clusters& clusters, const Lin
                  double sign) {
   LinearRgb emitted{};
   emitted[0] = (link.source.isCluster()
-                    ? exitanceToward(state.clusterEmitted[link.source.index], link.direction * -1.0)
+                    ? exitanceToward(state.clusterEmitted[link.source.index], link.sourceLobes)
                     : state.emission[link.source.index]) *
                sign;
   const LinearRgb direct = arrivingOver(link, emitted);
   if (link.receiver.isCluster()) {
-    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.direction);
+    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.receiverLobes);
   } else {
     LinearRgb& d = elements[link.receiver.index].node.gatheredDirect;
     for (int beta = 0; beta < 3; ++beta) d[beta] += direct[beta];
@@ -310,7 +310,8 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
   const auto reflectedOf = [&](size_t e) { return sentReflection(elements_[e]); };
   const auto carriedOf = [&](int pair) {
     const GLink& link = links_[size_t(pair)];
-    return SolveState::Carried{link.receiver, link.source, link.k, link.direction, pair};
+    return SolveState::Carried{link.receiver,      link.source,      link.k,
+                               link.receiverLobes, link.sourceLobes, pair};
   };
   std::vector<LinearRgb>& sent = state.sent;
   std::vector<LinearRgb>& gathered = state.gathered;
@@ -487,14 +488,13 @@ std::string GalerkinRadiosity::verifySolveState() const {
       if (link.source.isCluster() != isCluster || link.source.index != int(index) ||
           !(link.receiver == stored.receiver) || !(link.source == stored.source) ||
           std::memcmp(&link.k, &stored.k, sizeof link.k) != 0 ||
-          std::memcmp(&link.direction, &stored.direction, sizeof link.direction) != 0)
+          link.receiverLobes != stored.receiverLobes || link.sourceLobes != stored.sourceLobes)
         return "pair " + std::to_string(link.pair) +
                ": carried by the solve as it was before a change, or under another source";
-      const Vec3 toward = link.direction * -1.0;
       LinearRgb reflected{}, emitted{};
       if (isCluster) {
-        reflected[0] = exitanceToward(state.clusterSent[index], toward);
-        emitted[0] = exitanceToward(state.clusterEmitted[index], toward);
+        reflected[0] = exitanceToward(state.clusterSent[index], link.sourceLobes);
+        emitted[0] = exitanceToward(state.clusterEmitted[index], link.sourceLobes);
       } else {
         reflected = state.sent[index];
         emitted[0] = state.emission[index];
@@ -502,9 +502,9 @@ std::string GalerkinRadiosity::verifySolveState() const {
       const LinearRgb a = arrivingOver(link, reflected), d = arrivingOver(link, emitted);
       const LinearRgb magnitude = magnitudeOver(link, reflected), m = magnitudeOver(link, emitted);
       if (link.receiver.isCluster()) {
-        addArriving(clusterGathered[link.receiver.index], a[0], link.direction);
-        addArriving(clusterDirect[link.receiver.index], d[0], link.direction);
-        addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.direction);
+        addArriving(clusterGathered[link.receiver.index], a[0], link.receiverLobes);
+        addArriving(clusterDirect[link.receiver.index], d[0], link.receiverLobes);
+        addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.receiverLobes);
       } else {
         for (int beta = 0; beta < 3; ++beta) {
           gathered[link.receiver.index][beta] += a[beta];
