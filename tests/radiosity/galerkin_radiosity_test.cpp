@@ -8,6 +8,7 @@
 #include <functional>
 #include <numbers>
 #include <numeric>
+#include <random>
 
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/base/split_mix.h"
@@ -581,6 +582,41 @@ TEST(AxisLobes, ReceiveAsTheSurfacesFace) {
   EXPECT_NEAR(irradianceOn(lobes, Vec3{0, 0, 1}).r, 3 * u.z, 1e-12);
   EXPECT_NEAR(irradianceOn(lobes, Vec3{0, -1, 0}).r, 3 * -u.y, 1e-12);
   EXPECT_NEAR(irradianceOn(lobes, Vec3{-1, 0, 0}).r, 0, 1e-12);
+}
+
+// One direction's lobe weights send and receive as the direction does; a link's weights, the
+// directions of its point pairs weighed by what each carries, give a surface the light that
+// comes from its side: a source on both sides of a cluster (a floor around a chair, seen from
+// inside its box) lights the cluster's sides, where the one direction between the centres
+// (straight down) gave them nothing.
+TEST(AxisLobes, WeightsActAsTheirDirections) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 u = normalize(Vec3{unit(rng), unit(rng), unit(rng)});
+    AxisLobes lobes{};
+    for (Rgb& lobe : lobes) lobe = Rgb{unit(rng) + 1, unit(rng) + 1, unit(rng) + 1};
+    const LobeWeights weights = lobeWeightsOf(u);
+    EXPECT_NEAR(exitanceToward(lobes, weights).g, exitanceToward(lobes, u).g, 1e-6);
+    AxisLobes byWeights{}, byDirection{};
+    addArriving(byWeights, Rgb::gray(2), weights);
+    addArriving(byDirection, Rgb::gray(2), u);
+    for (int f = 0; f < 6; ++f) EXPECT_NEAR(byWeights[f].r, byDirection[f].r, 1e-6);
+  }
+  // Two halves of a source, down and to either side, carrying alike.
+  const Vec3 left = normalize(Vec3{-1, -0.5, 0}), right = normalize(Vec3{1, -0.5, 0});
+  LobeWeights spread{};
+  for (int f = 0; f < 6; ++f)
+    spread[f] = 0.5f * lobeWeightsOf(left)[f] + 0.5f * lobeWeightsOf(right)[f];
+  AxisLobes lobes{};
+  addArriving(lobes, Rgb::gray(1), spread);
+  // Each side faces one half: cos = 2/√5 of half the light.
+  EXPECT_NEAR(irradianceOn(lobes, Vec3{1, 0, 0}).r, 0.5 * 2 / std::sqrt(5.0), 1e-6);
+  EXPECT_NEAR(irradianceOn(lobes, Vec3{-1, 0, 0}).r, 0.5 * 2 / std::sqrt(5.0), 1e-6);
+  EXPECT_NEAR(irradianceOn(lobes, Vec3{0, -1, 0}).r, 1 / std::sqrt(5.0), 1e-6);
+  AxisLobes centred{};
+  addArriving(centred, Rgb::gray(1), normalize(left + right));
+  EXPECT_EQ(irradianceOn(centred, Vec3{1, 0, 0}).r, 0);
 }
 
 // Links are estimated in parallel and decided in order: the solution does not depend on the
