@@ -597,6 +597,7 @@ TEST(AxisLobes, WeightsActAsTheirDirections) {
     AxisLobes lobes{};
     for (Rgb& lobe : lobes) lobe = Rgb{unit(rng) + 1, unit(rng) + 1, unit(rng) + 1};
     const LobeWeights weights = lobeWeightsOf(u);
+    EXPECT_EQ(opposite(weights), lobeWeightsOf(u * -1.0));
     EXPECT_NEAR(exitanceToward(lobes, weights).g, exitanceToward(lobes, u).g, 1e-6);
     AxisLobes byWeights{}, byDirection{};
     addArriving(byWeights, Rgb::gray(2), weights);

@@ -56,6 +56,17 @@ inline LobeWeights lobeWeightsOf(const Vec3& u) {
   return weights;
 }
 
+// The weights of the opposite directions (each +axis lobe's with its −axis lobe's): a link's
+// weights are taken from its receiver towards its source, and its source sends the other way.
+inline LobeWeights opposite(const LobeWeights& weights) {
+  LobeWeights flipped{};
+  for (int k = 0; k < 3; ++k) {
+    flipped[2 * k] = weights[2 * k + 1];
+    flipped[2 * k + 1] = weights[2 * k];
+  }
+  return flipped;
+}
+
 // What the lobes send with these weights (exitanceToward of each direction, weighed).
 inline Rgb exitanceToward(const AxisLobes& lobes, const LobeWeights& weights) {
   Rgb sum;

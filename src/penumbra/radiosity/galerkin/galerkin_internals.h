@@ -42,9 +42,10 @@ struct GalerkinRadiosity::Estimate {
   double meanTransfer = 0;    // the mean point-pair transfer
   double spread = 0;          // max − min of the point-pair transfers
   double hiddenTransfer = 0;  // what the pairs found hidden would carry (weighted as the mean)
-  // A cluster receiver's lobes the arriving light spreads over, and a cluster source's lobes
-  // that send it (the pairs' directions, weighed by what each carries; axis_lobes.h).
-  LobeWeights receiverLobes{}, sourceLobes{};
+  // With a cluster end: the pairs' directions from the receiver towards the source, weighed by
+  // what each carries (axis_lobes.h), which a cluster receiver's arriving light spreads over; a
+  // cluster source sends from opposite(lobes).
+  LobeWeights lobes{};
   std::uint16_t hiddenPairs = 0;  // bit 4i + j: point pair (i, j) found hidden
   bool everyRay = false;          // a ray per pair, without the candidate-box test first
 };
@@ -121,7 +122,7 @@ struct GalerkinRadiosity::SolveState {
   struct Carried {
     NodeRef receiver, source;
     std::array<double, 9> k;
-    LobeWeights receiverLobes, sourceLobes;
+    LobeWeights lobes;
     int pair = 0;
   };
   bool valid = false;

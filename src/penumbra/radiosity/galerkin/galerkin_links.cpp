@@ -164,12 +164,15 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
     // lie under the covering polygon reads zero everywhere, while the rest of it may be in the
     // open.
     double coveredHighest = 0;
+    // Between elements, the source's bounds: where a receiver point is far from it (kFarSizes),
+    // and whether the ends nearly touch (below).
+    Box3 sourceBox;
     Vec3 sourceCentre;
     double sourceFar = 0;
     if (!receiver.isCluster && !source.isCluster) {
-      const Box3 box = elements_[s.index].shape.bounds();
-      sourceCentre = box.center();
-      sourceFar = kFarSizes * box.diagonalLength();
+      sourceBox = elements_[s.index].shape.bounds();
+      sourceCentre = sourceBox.center();
+      sourceFar = kFarSizes * sourceBox.diagonalLength();
     }
     for (int i = 0; i < receiver.count; ++i) {
       const Vec3& x = receiver.points[i];
@@ -217,7 +220,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
     // join the spread there.
     if (!receiver.isCluster && !source.isCluster) {
       const GElement &to = elements_[r.index], &from = elements_[s.index];
-      const Box3 a = to.shape.bounds(), b = from.shape.bounds();
+      const Box3 a = to.shape.bounds(), &b = sourceBox;
       Vec3 gap;
       for (int k = 0; k < 3; ++k)
         gap[k] = std::max({0.0, a.min[k] - b.max[k], b.min[k] - a.max[k]});
@@ -303,8 +306,8 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
   e.ends = reuse && reuse->ends ? *reuse->ends : endTermsNow();
   const std::array<std::array<double, 4>, 4>& transfers = e.ends.transfers;
   double lowest = std::numeric_limits<double>::infinity(), highest = 0;
-  // A cluster end's lobe weights: the point pairs' directions weighed by what they carry.
-  std::array<double, 6> receiverLobes{}, sourceLobes{};
+  // With a cluster end, its lobe weights: the point pairs' directions weighed by what they carry.
+  std::array<double, 6> lobes{};
   double carried = 0;
   for (int i = 0; i < receiver.count; ++i) {
     const Vec3& x = receiver.points[i];
@@ -364,11 +367,7 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
       const double w = receiver.weights[i] * source.weights[j] * transfer;
       if ((receiver.isCluster || source.isCluster) && w > 0) {
         const Vec3 d = normalize(y - x);  // towards the source (w > 0: the points differ)
-        for (int k = 0; k < 3; ++k) {
-          const double along = std::abs(d[k]) * w;
-          receiverLobes[2 * k + (d[k] < 0 ? 1 : 0)] += along;
-          sourceLobes[2 * k + (d[k] > 0 ? 1 : 0)] += along;
-        }
+        for (int k = 0; k < 3; ++k) lobes[2 * k + (d[k] < 0 ? 1 : 0)] += std::abs(d[k]) * w;
         carried += w;
       }
       for (int beta = 0; beta < 3; ++beta)
@@ -394,13 +393,10 @@ GalerkinRadiosity::Estimate GalerkinRadiosity::estimate(NodeRef r, NodeRef s,
                        (r.isCluster() ? 1 / kClusterCosine : 1);
   for (double& k : e.k) k *= scale;
   if (carried > 0) {
-    for (int f = 0; f < 6; ++f) {
-      if (r.isCluster()) e.receiverLobes[f] = float(receiverLobes[f] / carried);
-      if (s.isCluster()) e.sourceLobes[f] = float(sourceLobes[f] / carried);
-    }
-  } else {  // nothing carried: the direction between the centres (the weights carry nothing)
-    if (r.isCluster()) e.receiverLobes = lobeWeightsOf(direction);
-    if (s.isCluster()) e.sourceLobes = lobeWeightsOf(direction * -1.0);
+    for (int f = 0; f < 6; ++f) e.lobes[f] = float(lobes[f] / carried);
+  } else if (r.isCluster() || s.isCluster()) {
+    // Nothing carried: the direction between the centres (the weights carry nothing).
+    e.lobes = lobeWeightsOf(direction);
   }
   return e;
 }

@@ -343,11 +343,12 @@ class GalerkinRadiosity {
     NodeRef receiver, source;
     // K[β][α], β over the receiver's basis, α over the source's. A cluster end has one
     // coefficient: a cluster source's is per unit of the exitance its lobes send towards the
-    // receiver, a cluster receiver's is the flux density arriving along `direction`.
+    // receiver, a cluster receiver's is the flux density arriving over `lobes`.
     std::array<double, 9> k{};
-    // A cluster end's lobes: those the arriving light spreads over, those that send it
-    // (axis_lobes.h's LobeWeights, from the point pairs' directions).
-    LobeWeights receiverLobes{}, sourceLobes{};
+    // With a cluster end: its point pairs' directions from the receiver towards the source
+    // (Estimate::lobes): a cluster receiver takes its light over them, a cluster source sends
+    // over opposite(lobes).
+    LobeWeights lobes{};
     float meanTransfer = 0;         // the mean point-pair transfer (K[0][0])
     float spread = 0;               // max − min of the point-pair transfers
     float hiddenTransfer = 0;       // what its pairs found hidden would carry

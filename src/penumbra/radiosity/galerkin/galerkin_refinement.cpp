@@ -130,8 +130,7 @@ const GalerkinRadiosity::Candidates& GalerkinRadiosity::candidatesFor(int pair) 
 
 void GalerkinRadiosity::storeEstimate(GLink& link, const Estimate& e) {
   link.k = e.k;
-  link.receiverLobes = e.receiverLobes;
-  link.sourceLobes = e.sourceLobes;
+  link.lobes = e.lobes;
   link.meanTransfer = float(e.meanTransfer);
   link.spread = float(e.spread);
   link.hiddenTransfer = float(e.hiddenTransfer);

@@ -59,12 +59,12 @@ template <class State, class Link>
 void carryChange(State& state, const Link& link, const LinearRgb& from, const AxisLobes& lobes) {
   LinearRgb source{};
   if (link.source.isCluster())
-    source[0] = exitanceToward(lobes, link.sourceLobes);
+    source[0] = exitanceToward(lobes, opposite(link.lobes));
   else
     source = from;
   const LinearRgb arriving = arrivingOver(link, source);
   if (link.receiver.isCluster()) {
-    addArriving(state.clusterGathered[link.receiver.index], arriving[0], link.receiverLobes);
+    addArriving(state.clusterGathered[link.receiver.index], arriving[0], link.lobes);
   } else {
     LinearRgb& to = state.gathered[link.receiver.index];
     for (int beta = 0; beta < 3; ++beta) to[beta] += arriving[beta];
@@ -78,12 +78,12 @@ void carryDirect(State& state, Elements& elements, Clusters& clusters, const Lin
                  double sign) {
   LinearRgb emitted{};
   emitted[0] = (link.source.isCluster()
-                    ? exitanceToward(state.clusterEmitted[link.source.index], link.sourceLobes)
+                    ? exitanceToward(state.clusterEmitted[link.source.index], opposite(link.lobes))
                     : state.emission[link.source.index]) *
                sign;
   const LinearRgb direct = arrivingOver(link, emitted);
   if (link.receiver.isCluster()) {
-    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.receiverLobes);
+    addArriving(clusters[link.receiver.index].gatheredDirectLobes, direct[0], link.lobes);
   } else {
     LinearRgb& d = elements[link.receiver.index].node.gatheredDirect;
     for (int beta = 0; beta < 3; ++beta) d[beta] += direct[beta];
@@ -310,8 +310,7 @@ void GalerkinRadiosity::solve(double convergence, bool fromPrevious) {
   const auto reflectedOf = [&](size_t e) { return sentReflection(elements_[e]); };
   const auto carriedOf = [&](int pair) {
     const GLink& link = links_[size_t(pair)];
-    return SolveState::Carried{link.receiver,      link.source,      link.k,
-                               link.receiverLobes, link.sourceLobes, pair};
+    return SolveState::Carried{link.receiver, link.source, link.k, link.lobes, pair};
   };
   std::vector<LinearRgb>& sent = state.sent;
   std::vector<LinearRgb>& gathered = state.gathered;
@@ -487,14 +486,13 @@ std::string GalerkinRadiosity::verifySolveState() const {
         return "pair " + std::to_string(link.pair) + ": carried elsewhere in its source's list";
       if (link.source.isCluster() != isCluster || link.source.index != int(index) ||
           !(link.receiver == stored.receiver) || !(link.source == stored.source) ||
-          std::memcmp(&link.k, &stored.k, sizeof link.k) != 0 ||
-          link.receiverLobes != stored.receiverLobes || link.sourceLobes != stored.sourceLobes)
+          std::memcmp(&link.k, &stored.k, sizeof link.k) != 0 || link.lobes != stored.lobes)
         return "pair " + std::to_string(link.pair) +
                ": carried by the solve as it was before a change, or under another source";
       LinearRgb reflected{}, emitted{};
       if (isCluster) {
-        reflected[0] = exitanceToward(state.clusterSent[index], link.sourceLobes);
-        emitted[0] = exitanceToward(state.clusterEmitted[index], link.sourceLobes);
+        reflected[0] = exitanceToward(state.clusterSent[index], opposite(link.lobes));
+        emitted[0] = exitanceToward(state.clusterEmitted[index], opposite(link.lobes));
       } else {
         reflected = state.sent[index];
         emitted[0] = state.emission[index];
@@ -502,9 +500,9 @@ std::string GalerkinRadiosity::verifySolveState() const {
       const LinearRgb a = arrivingOver(link, reflected), d = arrivingOver(link, emitted);
       const LinearRgb magnitude = magnitudeOver(link, reflected), m = magnitudeOver(link, emitted);
       if (link.receiver.isCluster()) {
-        addArriving(clusterGathered[link.receiver.index], a[0], link.receiverLobes);
-        addArriving(clusterDirect[link.receiver.index], d[0], link.receiverLobes);
-        addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.receiverLobes);
+        addArriving(clusterGathered[link.receiver.index], a[0], link.lobes);
+        addArriving(clusterDirect[link.receiver.index], d[0], link.lobes);
+        addArriving(clusterScale[link.receiver.index], magnitude[0] + m[0], link.lobes);
       } else {
         for (int beta = 0; beta < 3; ++beta) {
           gathered[link.receiver.index][beta] += a[beta];

@@ -89,10 +89,10 @@ std::string GalerkinRadiosity::verifyLinks() const {
       auto own = std::make_shared<const std::vector<PolygonId>>(
           shaftCandidates(link.receiver, link.source, *inherited));
       const Estimate e = estimate(link.receiver, link.source, CandidateView::of(*own), counters);
-      if (!sameBits(e.k, link.k) || e.receiverLobes != link.receiverLobes ||
-          e.sourceLobes != link.sourceLobes || float(e.meanTransfer) != link.meanTransfer ||
-          float(e.spread) != link.spread || float(e.hiddenTransfer) != link.hiddenTransfer ||
-          e.hiddenPairs != link.hiddenPairs || e.everyRay != link.everyRay) {
+      if (!sameBits(e.k, link.k) || e.lobes != link.lobes ||
+          float(e.meanTransfer) != link.meanTransfer || float(e.spread) != link.spread ||
+          float(e.hiddenTransfer) != link.hiddenTransfer || e.hiddenPairs != link.hiddenPairs ||
+          e.everyRay != link.everyRay) {
         difference.precision(17);
         difference << pair << ": stored K " << link.k[0] << ", " << link.k[4] << ", mean "
                    << link.meanTransfer << ", spread " << link.spread << ", hidden "
