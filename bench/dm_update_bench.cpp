@@ -4,6 +4,11 @@
 //
 // Usage: dm_update_bench [SCENE...]  (default: desk-145, desk-475, the chair room, and a generated
 // 1,000-polygon room with 5 frames)
+//        dm_update_bench --scale [N,N,...]  generated rooms of these many polygons (default 1,000
+// and 10,000; seed 1, 4 frames, the same 0.15 m box moving above the central desk): one full build
+// each, then the box's steps by update alone (no full build beside them: a 10,000-polygon room's
+// takes a minute and a half), each step's processor time and stages, the median step per room and
+// how much it grows from the first room to each other.
 
 #include <algorithm>
 #include <chrono>
@@ -11,6 +16,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -89,10 +95,60 @@ void benchScene(const std::string& name, const Scene& scene) {
   }
 }
 
+// The median update step's processor time in a generated room of `polygons` polygons.
+double scaleStep(int polygons) {
+  SceneGeneratorOptions generator;
+  generator.targetPolygons = polygons;
+  generator.frames = 4;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "penumbra-dm-update-scale.json";
+  std::ofstream(path) << generateSceneJson(generator);
+  const Scene scene = loadScene(path.string());
+  std::filesystem::remove(path);
+  DynamicScene live(scene, 0);
+  DiscontinuityMeshEngine engine;
+  double cpu = cpuSeconds();
+  engine.build(live);
+  std::printf(
+      "generated %d-polygon room: built in %.1f s (processor), %lld faces on %d receivers\n",
+      polygons, cpuSeconds() - cpu, engine.stats().meshFaces, scene.polygonCount());
+  std::vector<double> steps;
+  for (int frame = 1; frame < scene.frames; ++frame) {
+    const SceneChange change = live.changeToFrame(frame);
+    cpu = cpuSeconds();
+    live.apply(change);
+    engine.update(live, change);
+    steps.push_back(cpuSeconds() - cpu);
+    const DmStats s = engine.stats();
+    std::printf(
+        "  frame %d: update %.3f s; %lld meshes edited, %lld faces recomputed; stages s: surfaces "
+        "%.3f casting %.3f EEE %.3f meshing %.3f backprojections %.3f verification %.3f\n",
+        frame, steps.back(), s.editedMeshes + s.rebuiltMeshes, s.recomputedFaces, s.secondsSurfaces,
+        s.secondsCasting, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
+        s.secondsVerification);
+  }
+  std::printf("  median update step %.3f s\n", median(steps));
+  return median(steps);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string root = PENUMBRA_SOURCE_DIR;
+  if (argc > 1 && std::string(argv[1]) == "--scale") {
+    std::vector<int> sizes{1000, 10000};
+    if (argc > 2) {
+      sizes.clear();
+      std::stringstream list(argv[2]);
+      for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
+    }
+    std::vector<double> steps;
+    for (int polygons : sizes) steps.push_back(scaleStep(polygons));
+    for (size_t i = 1; i < sizes.size(); ++i)
+      std::printf("%d -> %d polygons: the median update step grows x%.1f\n", sizes[0], sizes[i],
+                  steps[i] / steps[0]);
+    return 0;
+  }
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) scenes.push_back(argv[i]);
   const bool defaults = scenes.empty();
