@@ -125,6 +125,13 @@ void explain(const Galerkin& solver, const DynamicScene& live, int leaf) {
       levelEstimate += estimate;
       levelExact += mean;
       levelProjection += projection;
+      if (std::abs(estimate - mean) > 0.01)
+        std::printf(
+            "      from element %d (polygon %d, %.3g m^2): estimate %.4f, L2 projection %.4f, "
+            "exact "
+            "%.4f (mean transfer %.4f, spread %.4f, hidden %.4f)\n",
+            link.source.index, source.polygon, source.area, estimate, projection, mean,
+            link.meanTransfer, link.spread, link.hiddenTransfer);
     }
     std::printf(
         "    ancestor %d (%.3g m^2): %d links from elements: estimate %.4f, L2 projection %.4f, "
