@@ -13,10 +13,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -121,7 +123,9 @@ double scaleStep(int polygons) {
     steps.push_back(cpuSeconds() - cpu);
     const DmStats s = engine.stats();
     std::printf(
-        "  frame %d: update %.3f s; %lld meshes edited, %lld faces recomputed; stages s: surfaces "
+        "  frame %d: update %.3f s; %lld meshes edited or built anew, %lld faces recomputed; "
+        "stages "
+        "s: surfaces "
         "%.3f casting %.3f EEE %.3f meshing %.3f backprojections %.3f verification %.3f\n",
         frame, steps.back(), s.editedMeshes + s.rebuiltMeshes, s.recomputedFaces, s.secondsSurfaces,
         s.secondsCasting, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
@@ -131,16 +135,21 @@ double scaleStep(int polygons) {
   return median(steps);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const std::string root = PENUMBRA_SOURCE_DIR;
   if (argc > 1 && std::string(argv[1]) == "--scale") {
     std::vector<int> sizes{1000, 10000};
     if (argc > 2) {
       sizes.clear();
       std::stringstream list(argv[2]);
-      for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
+      for (std::string item; std::getline(list, item, ',');) {
+        char* end = nullptr;
+        const long polygons = std::strtol(item.c_str(), &end, 10);
+        if (item.empty() || *end != '\0' || polygons < 50 || polygons > 10'000'000)
+          throw std::invalid_argument("--scale: '" + item +
+                                      "' is not a polygon count from 50 to 10,000,000");
+        sizes.push_back(int(polygons));
+      }
     }
     std::vector<double> steps;
     for (int polygons : sizes) steps.push_back(scaleStep(polygons));
@@ -168,4 +177,15 @@ int main(int argc, char** argv) {
     std::filesystem::remove(path);
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dm_update_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -190,9 +191,7 @@ void furnace(const std::string& path, const std::vector<double>& tolerances, boo
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<double> tolerances;
   std::vector<std::string> scenes;
   bool roomOnly = false, explainWorst = false;
@@ -200,7 +199,15 @@ int main(int argc, char** argv) {
     const std::string flag = argv[i];
     if (flag == "--tolerances" && i + 1 < argc) {
       std::stringstream list(argv[++i]);
-      for (std::string item; std::getline(list, item, ',');) tolerances.push_back(std::stod(item));
+      for (std::string item; std::getline(list, item, ',');) {
+        char* end = nullptr;
+        const double tolerance = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !(tolerance > 0))
+          throw std::invalid_argument("--tolerances: '" + item + "' is not a positive number");
+        tolerances.push_back(tolerance);
+      }
+    } else if (flag == "--tolerances") {
+      throw std::invalid_argument("--tolerances needs a comma-separated list of tolerances");
     } else if (flag == "--room-only") {
       roomOnly = true;
     } else if (flag == "--explain") {
@@ -217,4 +224,15 @@ int main(int argc, char** argv) {
   if (tolerances.empty()) tolerances = {3e-3, 1e-3, 3e-4, 1e-4, 3e-5};
   for (const std::string& path : scenes) furnace(path, tolerances, roomOnly, explainWorst);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "galerkin_furnace: %s\n", e.what());
+    return 1;
+  }
 }
