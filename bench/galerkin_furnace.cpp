@@ -30,6 +30,7 @@
 #include "bench_statistics.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
+#include "penumbra/scene/closedness.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/dynamic_scene.h"
 
@@ -153,6 +154,11 @@ void furnace(const std::string& path, const std::vector<double>& tolerances, boo
   const DynamicScene live(scene, 0);
   std::printf("%s%s: %d polygons\n", path.c_str(), roomOnly ? " (room only)" : "",
               int(live.posed().polygons.size()));
+  // E = 2 holds only where every direction meets a surface.
+  const ClosednessReport closedness = checkClosedness(scene, live.posed());
+  if (!closedness.isSceneClosed)
+    std::printf("  (not closed: %d open edges, %.3g m; light escapes and E < 2 near them)\n",
+                closedness.sceneOpenEdgeCount, closedness.sceneOpenEdgeLength);
   std::printf("  %-9s %7s %8s %8s %8s %14s %9s %8s\n", "tolerance", "leaves", "worst", "median",
               "p99", "over 1% (area)", "abs/emit", "seconds");
   for (size_t t = 0; t < tolerances.size(); ++t) {
@@ -181,6 +187,10 @@ void furnace(const std::string& path, const std::vector<double>& tolerances, boo
         worst = error;
         worstLeaf = int(i);
       }
+    }
+    if (errors.empty()) {
+      std::printf("  %-9g no open leaves\n", tolerances[t]);
+      continue;
     }
     const double energy = solver.absorbedPower().average() / solver.emittedPower().average();
     std::printf("  %-9g %7zu %7.2f%% %7.2f%% %7.2f%% %6d (%5.1f%%) %9.4f %8.3f\n", tolerances[t],
