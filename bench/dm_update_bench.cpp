@@ -97,16 +97,22 @@ void benchScene(const std::string& name, const Scene& scene) {
   }
 }
 
-// The median update step's processor time in a generated room of `polygons` polygons.
-double scaleStep(int polygons) {
+// A generated room (seed 1), loaded as the CLI loads a file: the loader reads scenes from paths.
+Scene generatedRoom(int polygons, int frames) {
   SceneGeneratorOptions generator;
   generator.targetPolygons = polygons;
-  generator.frames = 4;
+  generator.frames = frames;
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "penumbra-dm-update-scale.json";
+      std::filesystem::temp_directory_path() / "penumbra-dm-update-bench.json";
   std::ofstream(path) << generateSceneJson(generator);
-  const Scene scene = loadScene(path.string());
+  Scene scene = loadScene(path.string());
   std::filesystem::remove(path);
+  return scene;
+}
+
+// The median update step's processor time in a generated room of `polygons` polygons.
+double scaleStep(int polygons) {
+  const Scene scene = generatedRoom(polygons, 4);
   DynamicScene live(scene, 0);
   DiscontinuityMeshEngine engine;
   double cpu = cpuSeconds();
@@ -166,16 +172,7 @@ int run(int argc, char** argv) {
               root + "/scenes/office-desk/desk-475.json",
               root + "/scenes/chair-room/chair-room.json"};
   for (const std::string& path : scenes) benchScene(path, loadScene(path));
-  if (defaults) {
-    SceneGeneratorOptions generator;
-    generator.targetPolygons = 1000;
-    generator.frames = 5;
-    const std::filesystem::path path =
-        std::filesystem::temp_directory_path() / "penumbra-dm-update-bench.json";
-    std::ofstream(path) << generateSceneJson(generator);
-    benchScene("generated 1k room", loadScene(path.string()));
-    std::filesystem::remove(path);
-  }
+  if (defaults) benchScene("generated 1k room", generatedRoom(1000, 5));
   return 0;
 }
 
