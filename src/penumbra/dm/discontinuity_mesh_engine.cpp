@@ -1148,7 +1148,15 @@ bool DiscontinuityMeshEngine::labelsHoldAtCorners(const ReceiverMesh& mesh, cons
       if (!atSample.isLabelled) continue;
       const Backprojection here =
           backprojections_->compute(posed_->lights[l], p, receiver.plane.normal, receiver.id);
-      if (!here.isLabelled) continue;
+      // Unlabelled here (more or fewer than two features meet at a vertex of the region: an
+      // occluder's corner lying on a light edge makes one wherever the occluder hides part of the
+      // light): no labels to compare, but the sample's labels must still give p's own light, the
+      // region computed at p. A card standing on the light's edge hid a sliver of it at one corner
+      // of a face whose sample saw none of it, and every other corner agreed.
+      if (!here.isLabelled) {
+        if (!isAlias(atSample, here, p, receiver)) return false;
+        continue;
+      }
       if (compared) ++(*compared)[l];
       if (!sameLabels(here, atSample, *adjacency_) && !isAlias(atSample, here, p, receiver))
         return false;

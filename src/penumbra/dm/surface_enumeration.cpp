@@ -626,7 +626,10 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
       if (orientation3d(s0, s1, adjacency.position(edge.a), adjacency.position(edge.b)) !=
           Sign::kZero)
         continue;
-      if (squaredLength(cross(s1 - s0, a - s0)) == 0) continue;  // on the light edge's line
+      // On the light edge's line: no plane. One end on it (a card standing on the light's edge)
+      // still makes one, through the other end.
+      if (squaredLength(cross(s1 - s0, a - s0)) == 0 && squaredLength(cross(s1 - s0, b - s0)) == 0)
+        continue;
       for (const SurfaceIntersection& cut : fan.intersections) {
         if (std::count(edge.polygons.begin(), edge.polygons.end(), cut.polygon)) continue;
         for (int end = 0; end < 2; ++end) {
@@ -646,7 +649,9 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
   std::vector<DiscontinuitySurface> surfaces;
   for (const auto& [key, c] : crossings) {
     const Vec3 &s0 = lv[c.lightEdge], &s1 = lv[(c.lightEdge + 1) % n];
-    const Vec3 m = cross(s1 - s0, c.a - s0);  // the common plane
+    // The common plane, through the end of the occluder edge farther from the light edge's line.
+    const Vec3 ma = cross(s1 - s0, c.a - s0), mb = cross(s1 - s0, c.b - s0);
+    const Vec3 m = squaredLength(ma) >= squaredLength(mb) ? ma : mb;
     for (const auto& [w0, w1] : separatingRanges(s0, s1, c.x, c.a, c.b, m)) {
       DiscontinuitySurface s;
       s.id = firstId + SurfaceId(surfaces.size());
