@@ -1,13 +1,14 @@
 // Acceptance run of the exact soft-shadow engine: at random receiver points of the bundled scenes,
-// of seeded generated rooms and of seeded penumbra-rich scenes (rotated boxes under a large
-// light), and of triangulated copies of all of them, the irradiance from the discontinuity mesh
-// (the located face's backprojection) against the per-point exact reference (the light polygon
-// clipped by every occluder's projection, no mesh). A point differs when the relative difference
-// exceeds 1e-9 (in the umbra, relative to 1e-4 of the brightest light's exitance). Half the points
-// are uniform over the receivers' area, half are drawn among penumbra points (5-95% of the
-// unoccluded irradiance). Run twice: faces answering from their sample's labels alone (the mesh as
-// built), then with face verification (DmOptions::verifyFaces), with the count of faces it found
-// unresolved.
+// of seeded generated rooms, of seeded penumbra-rich scenes (rotated boxes under a large
+// light) and of seeded degenerate ones (cards and boxes on a dyadic grid touching the light's
+// edges and plane, each other and the floor), and of triangulated copies of all of them, the
+// irradiance from the discontinuity mesh (the located face's backprojection) against the per-point
+// exact reference (the light polygon clipped by every occluder's projection, no mesh). A point
+// differs when the relative difference exceeds 1e-9 (in the umbra, relative to 1e-4 of the
+// brightest light's exitance). Half the points are uniform over the receivers' area, half are drawn
+// among penumbra points (5-95% of the unoccluded irradiance). Run twice: faces answering from their
+// sample's labels alone (the mesh as built), then with face verification (DmOptions::verifyFaces),
+// with the count of faces it found unresolved.
 //
 // Usage: dm_exactness [--points N] [--propagate on|off] [--walked] [--only S] [--verified-only]
 // [--show] [--corners]
@@ -23,6 +24,7 @@
 // report, not a test).
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -91,6 +93,108 @@ std::string rotatedBoxesJson(std::uint64_t seed) {
   }
   json << "]}";
   return json.str();
+}
+
+// A floor, a 0.5 m square light facing down at y = 2 and one to four occluders on a dyadic grid
+// (multiples of 1/8): horizontal, vertical and 45-degree cards, L-shaped cards given both ways
+// round, boxes standing on the floor or floating; a third of the cards reach up into the light's
+// plane, where the grid puts their corners on the light's edges and vertices. Coincidences are
+// the point: shadows of one occluder's edges fall on another's, edges line up with the light's.
+// The last occluder moves by dyadic steps at frames 1 and 2 (turned at 2).
+std::string degenerateCardsJson(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const auto uniform = [&](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  const auto dyadic = [&](double lo, double hi) { return std::round(uniform(lo, hi) * 8) / 8; };
+  using Corners = std::vector<std::array<double, 3>>;
+  const auto text = [](const Corners& corners) {
+    std::ostringstream out;
+    out << '[';
+    for (size_t i = 0; i < corners.size(); ++i)
+      out << (i ? "," : "") << '[' << corners[i][0] << ',' << corners[i][1] << ',' << corners[i][2]
+          << ']';
+    return out.str() + ']';
+  };
+  const auto reversed = [](Corners c) {
+    std::reverse(c.begin(), c.end());
+    return c;
+  };
+  std::ostringstream json;
+  json << R"({"penumbra": 1, "materials": {"white": {"reflectance": [0.7, 0.7, 0.7]},
+    "lamp": {"reflectance": [0, 0, 0], "emission": [10, 10, 10]}}, "objects": [
+    {"name": "floor", "material": "white", "polygons": [[[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]]]},
+    {"name": "lamp", "material": "lamp",
+     "polygons": [[[-0.25,2,-0.25],[0.25,2,-0.25],[0.25,2,0.25],[-0.25,2,0.25]]]})";
+  const int count = 1 + int(rng() % 4);
+  for (int k = 0; k < count; ++k) {
+    std::vector<Corners> polygons;
+    const double x = dyadic(-0.75, 0.75), z = dyadic(-0.75, 0.75);
+    const double a = dyadic(0.125, 0.5), b = dyadic(0.125, 0.5);
+    double y = uniform(0, 1) < 0.3 ? 2.0 : dyadic(0.25, 2.0);
+    switch (rng() % 6) {
+      case 0:  // a box, on the floor or floating
+        y = uniform(0, 1) < 0.4 ? 0.0 : dyadic(0.0, 1.5);
+        for (Corners face : std::vector<Corners>{{{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}},
+                                                 {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}},
+                                                 {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}},
+                                                 {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}},
+                                                 {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}},
+                                                 {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}}) {
+          for (auto& c : face) c = {x + a * c[0], y + b * c[1], z + a * c[2]};
+          polygons.push_back(face);
+        }
+        break;
+      case 1:  // horizontal
+        y = std::min(y, 1.875);
+        polygons.push_back({{x, y, z}, {x, y, z + b}, {x + a, y, z + b}, {x + a, y, z}});
+        break;
+      case 2:  // in a plane x = const
+        polygons.push_back({{x, y, z}, {x, y - a, z}, {x, y - a, z + b}, {x, y, z + b}});
+        break;
+      case 3:  // in a plane z = const
+        polygons.push_back({{x, y, z}, {x, y - a, z}, {x + b, y - a, z}, {x + b, y, z}});
+        break;
+      case 4:  // turned 45 degrees about x
+        polygons.push_back({{x, y, z}, {x + a, y, z}, {x + a, y - b, z + b}, {x, y - b, z + b}});
+        break;
+      default: {  // an L, both ways round
+        y = std::min(y, 1.875);
+        const Corners l{{x, y, z},         {x + 2 * a, y, z},     {x + 2 * a, y, z + b},
+                        {x + a, y, z + b}, {x + a, y, z + 2 * b}, {x, y, z + 2 * b}};
+        polygons.push_back(l);
+        polygons.push_back(reversed(l));
+      }
+    }
+    if (polygons.size() == 1 && rng() % 2) polygons[0] = reversed(polygons[0]);
+    json << ", {\"name\": \"occluder" << k << "\", \"material\": \"white\", \"polygons\": [";
+    for (size_t i = 0; i < polygons.size(); ++i) json << (i ? "," : "") << text(polygons[i]);
+    json << "]";
+    if (k + 1 == count)
+      json << R"(, "motion": [{"frame": 0, "translate": [0, 0, 0]}, {"frame": 1, "translate": [)"
+           << dyadic(-0.25, 0.25) << ", 0, " << dyadic(-0.25, 0.25)
+           << R"(]}, {"frame": 2, "translate": [)" << dyadic(-0.25, 0.25) << ", "
+           << dyadic(-0.25, 0) << ", " << dyadic(-0.25, 0.25)
+           << R"(], "rotate": {"axis": [0, 1, 0], "degrees": 45}}])";
+    json << "}";
+  }
+  json << "]}";
+  return json.str();
+}
+
+// A card standing on the light's edge (its corner on the edge) above an L-shaped card: the case
+// tests/dm/discontinuity_mesh_engine_test.cpp's CardStandingOnTheLightsEdgeIsExact pins down.
+std::string cardOnTheLightsEdgeJson() {
+  return R"({"penumbra": 1, "materials": {"white": {"reflectance": [0.7, 0.7, 0.7]},
+    "lamp": {"reflectance": [0, 0, 0], "emission": [10, 10, 10]}}, "objects": [
+    {"name": "floor", "material": "white", "polygons": [[[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]]]},
+    {"name": "lamp", "material": "lamp",
+     "polygons": [[[-0.25,2,-0.25],[0.25,2,-0.25],[0.25,2,0.25],[-0.25,2,0.25]]]},
+    {"name": "L", "material": "white", "polygons": [
+      [[-0.5,1,-0.5],[0.3,1,-0.5],[0.3,1,-0.1],[-0.1,1,-0.1],[-0.1,1,0.5],[-0.5,1,0.5]],
+      [[-0.5,1,0.5],[-0.1,1,0.5],[-0.1,1,-0.1],[0.3,1,-0.1],[0.3,1,-0.5],[-0.5,1,-0.5]]]},
+    {"name": "card", "material": "white",
+     "polygons": [[[0.25,2,0],[0.25,1.6,0],[0.6,1.6,0],[0.6,2,0]]]}]})";
 }
 
 bool isConvex(const Polygon3& polygon) {
@@ -396,6 +500,11 @@ int main(int argc, char** argv) {
   for (std::uint64_t seed : {11, 12, 13, 14})
     scenes.push_back({"rotated-boxes-seed" + std::to_string(seed),
                       written("exact-boxes-" + std::to_string(seed), rotatedBoxesJson(seed))});
+  scenes.push_back(
+      {"card-on-the-lights-edge", written("exact-card-edge", cardOnTheLightsEdgeJson())});
+  for (std::uint64_t seed = 21; seed <= 28; ++seed)
+    scenes.push_back({"degenerate-cards-seed" + std::to_string(seed),
+                      written("exact-cards-" + std::to_string(seed), degenerateCardsJson(seed))});
 
   std::printf(
       "# dm vs exact reference, %d points per scene (half uniform, half penumbra); "
