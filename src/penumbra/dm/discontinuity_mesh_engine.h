@@ -308,9 +308,10 @@ class DiscontinuityMeshEngine {
   bool isAlias(const Backprojection& atSample, const Backprojection& here, const Vec3& p,
                const WorldPolygon& receiver) const;
   // The face's labels for `light` computed at another point of it, where the sample's could not
-  // be labelled (a degenerate alignment there); its cone's occluders into `occluders`.
+  // be labelled (`atSample`: a degenerate alignment there), taken only where they give the
+  // sample's own light; its cone's occluders into `occluders`.
   std::optional<Backprojection> labelledElsewhere(const ReceiverMesh& mesh, const MeshFace& face,
-                                                  PolygonId light,
+                                                  const Backprojection& atSample,
                                                   const SegmentProximity& eeeSegments,
                                                   std::vector<PolygonId>& occluders) const;
   bool labelsHoldAtCorners(const ReceiverMesh& mesh, const MeshFace& face, const FaceData& data,
