@@ -553,6 +553,37 @@ TEST(DiscontinuityMeshEngine, CardStandingOnTheLightsEdgeIsExact) {
   EXPECT_EQ(wrong, 0) << wrong << " of " << points << " points, first " << first;
 }
 
+// A card crossing the light's plane beside the light, touching its edge: a point of the card on
+// the light's plane, 3.75e-10 from the light's edge, lies within the locator's tolerance of the
+// light polygon too, at distance 0 from its plane. The light was taken as the nearest receiver
+// and, having no mesh, the query answered nothing (`probe` failed: "the point lies on no receiver
+// facing its normal").
+TEST(DiscontinuityMeshEngine, PointOfACardBesideTheLightIsAnswered) {
+  test::SceneBuilder b;
+  b.addMaterial("white", {0.7, 0.7, 0.7}).addMaterial("lamp", {0, 0, 0}, {10, 10, 10});
+  b.addPolygon("white", {{-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}}, "floor");
+  b.addPolygon("lamp", {{-0.25, 2, -0.25}, {0.25, 2, -0.25}, {0.25, 2, 0.25}, {-0.25, 2, 0.25}},
+               "lamp");
+  b.addPolygon("white",
+               {{-0.625, 2.125, -0.125},
+                {-0.25, 2.125, -0.125},
+                {-0.25, 1.625, 0.375},
+                {-0.625, 1.625, 0.375}},
+               "card");
+  const PosedScene scene = b.pose();
+  DiscontinuityMeshEngine engine;
+  engine.build(PosedScene(scene));
+  const UniformGrid grid(scene);
+  const ExactReference reference(scene, &grid);
+  const Vec3 n = normalize(Vec3{0, -1, -1});
+  for (const Vec3& p : {Vec3{-0.25000000037499998, 2, 0}, Vec3{-0.4, 2, 0}, Vec3{-0.3, 1.9, 0.1}}) {
+    const auto query = engine.query(p, n);
+    ASSERT_TRUE(query) << p;
+    const double expected = reference.irradiance(p, n, 2).r;
+    EXPECT_NEAR(query->irradiance.r, expected, 1e-9 * std::max(expected, 1e-2)) << p;
+  }
+}
+
 TEST(DiscontinuityMeshEngine, FloatingBoxIsExact) {
   test::SceneBuilder b = litRoom();
   test::addBox(b, "white", "box", {1.6, 1.7, 1.2}, {2.3, 2.2, 1.6});

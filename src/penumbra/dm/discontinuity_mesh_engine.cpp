@@ -1205,7 +1205,11 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   // Only those coplanar with the nearest: another plane through the point within the locator's
   // tolerance is another receiver, whose value is not the point's (a needle of a polygon dipping
   // 7e-13 below the floor answered with the floor's light: the dm_geometry fuzzer).
-  const std::vector<ReceiverMatch> matches = locateReceivers(*posed_, *grid_, p, n);
+  std::vector<ReceiverMatch> matches = locateReceivers(*posed_, *grid_, p, n);
+  // Lights have no mesh: a point on a card that crosses the light's plane beside the light's edge
+  // matched the light (within the locator's tolerance, at distance 0) before the card, and the
+  // query answered nothing for a point of a receiver.
+  std::erase_if(matches, [&](const ReceiverMatch& m) { return !receivers_.count(m.polygon); });
   if (matches.empty()) return std::nullopt;
   const ReceiverMatch* match = &matches.front();
   const Vec3& nearestNormal = posed_->polygons[match->polygon].plane.normal;
