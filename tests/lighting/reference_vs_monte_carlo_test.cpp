@@ -160,8 +160,9 @@ namespace {
 // turned 30 degrees): clipping the light by the receiver's tangent plane leaves that corner twice,
 // a rounding apart. The clipping cone's hull kept both, and the plane through the hull's edge
 // between them, of a direction of rounding noise, cut an L-shaped card's piece inside the light:
-// a false chip of light, 0.4-0.6% too much at these points (Monte Carlo with 2^21 samples agreed
-// with the corrected value to 2e-6). Found by random degenerate scenes (bench/dm_exactness).
+// a false chip of light (0.4-0.6% too much at points of the scene this was found in, among random
+// degenerate ones: docs/shadows.md, session 31). Here Monte Carlo takes 2^20 samples a point, a
+// standard error of 2-3e-6, and the old values were hundreds of standard errors off.
 TEST(ReferenceVsMonteCarlo, ReceiverPlaneThroughALightCorner) {
   test::SceneBuilder b;
   b.addMaterial("lamp", {0, 0, 0}, {10, 10, 10}).addMaterial("white", {0.7, 0.7, 0.7});
