@@ -32,6 +32,17 @@ test::SceneBuilder litRoom() {
   return b;
 }
 
+// A 0.5 m square light facing down at y = 2 over a 4 x 4 floor (y up), polygons 0 (the floor)
+// and 1: the degenerate scenes of session 31 (docs/shadows.md).
+test::SceneBuilder smallLampOverFloor() {
+  test::SceneBuilder b;
+  b.addMaterial("white", {0.7, 0.7, 0.7}).addMaterial("lamp", {0, 0, 0}, {10, 10, 10});
+  b.addPolygon("white", {{-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}}, "floor");
+  b.addPolygon("lamp", {{-0.25, 2, -0.25}, {0.25, 2, -0.25}, {0.25, 2, 0.25}, {-0.25, 2, 0.25}},
+               "lamp");
+  return b;
+}
+
 struct Comparison {
   int points = 0, failures = 0;
   int answeredByMesh = 0;  // the rest were answered at the point (by the exact reference)
@@ -517,11 +528,7 @@ TEST(DiscontinuityMeshEngine, CardThroughTheFloorIsExact) {
 // fans through a crossing of the edge's plane (kLightEdgeParallelEdgeCrossing) are made for an
 // occluder edge touching the light edge's line at one end, not only for one beside it.
 TEST(DiscontinuityMeshEngine, CardStandingOnTheLightsEdgeIsExact) {
-  test::SceneBuilder b;
-  b.addMaterial("white", {0.7, 0.7, 0.7}).addMaterial("lamp", {0, 0, 0}, {10, 10, 10});
-  b.addPolygon("white", {{-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}}, "floor");
-  b.addPolygon("lamp", {{-0.25, 2, -0.25}, {0.25, 2, -0.25}, {0.25, 2, 0.25}, {-0.25, 2, 0.25}},
-               "lamp");
+  test::SceneBuilder b = smallLampOverFloor();
   const Polygon3 l{{-0.5, 1, -0.5}, {0.3, 1, -0.5}, {0.3, 1, -0.1},
                    {-0.1, 1, -0.1}, {-0.1, 1, 0.5}, {-0.5, 1, 0.5}};
   b.addPolygon("white", l, "L");
@@ -559,11 +566,7 @@ TEST(DiscontinuityMeshEngine, CardStandingOnTheLightsEdgeIsExact) {
 // and, having no mesh, the query answered nothing (`probe` failed: "the point lies on no receiver
 // facing its normal").
 TEST(DiscontinuityMeshEngine, PointOfACardBesideTheLightIsAnswered) {
-  test::SceneBuilder b;
-  b.addMaterial("white", {0.7, 0.7, 0.7}).addMaterial("lamp", {0, 0, 0}, {10, 10, 10});
-  b.addPolygon("white", {{-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}}, "floor");
-  b.addPolygon("lamp", {{-0.25, 2, -0.25}, {0.25, 2, -0.25}, {0.25, 2, 0.25}, {-0.25, 2, 0.25}},
-               "lamp");
+  test::SceneBuilder b = smallLampOverFloor();
   b.addPolygon("white",
                {{-0.625, 2.125, -0.125},
                 {-0.25, 2.125, -0.125},
