@@ -1122,11 +1122,11 @@ std::optional<Backprojection> DiscontinuityMeshEngine::labelledElsewhere(
   // alignment has the face's labels, which hold over the whole face. Tried halfway from the
   // sample to each corner, in the boundary's canonical order; beside an EEE polyline a point may
   // see the other side of the conic, so those are not tried. The labels found must give the
-  // sample's own light there: the sample may see a part of the light the other point does not
-  // (a missing event between them), and every corner may agree with the other point. On a box's
-  // side under a tilted card and an L-shaped one, the sample saw a light corner through the L's
-  // notch (a ring Clipper gave with its corner twice, left unlabelled), the point halfway did
-  // not, and the face answered up to 0.47% low over a quarter of the side.
+  // sample's own light there: the sample may see a part of the light the other point does not (a
+  // missing event between them) while every corner agrees with the other point, and nothing else
+  // would notice. (Added while diagnosing a box's side whose face answered 0.47% off this way; the
+  // light its sample saw there turned out to be the reference's own fault, see
+  // ExactReference::coneOf, but the check costs an evaluation only where a sample is unlabelled.)
   const PolygonId light = atSample.light;
   const WorldPolygon& receiver = posed_->polygons[mesh.receiver()];
   for (const Polygon3& cycle : mesh.faceBoundary(face.index))
