@@ -95,6 +95,15 @@ std::string rotatedBoxesJson(std::uint64_t seed) {
   return json.str();
 }
 
+// The degenerate scenes' start: materials, a 4 x 4 floor and a 0.5 m square light facing down at
+// y = 2; the occluders follow, each after a comma, and then "]}".
+constexpr const char* kSmallLampOverFloor =
+    R"({"penumbra": 1, "materials": {"white": {"reflectance": [0.7, 0.7, 0.7]},
+    "lamp": {"reflectance": [0, 0, 0], "emission": [10, 10, 10]}}, "objects": [
+    {"name": "floor", "material": "white", "polygons": [[[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]]]},
+    {"name": "lamp", "material": "lamp",
+     "polygons": [[[-0.25,2,-0.25],[0.25,2,-0.25],[0.25,2,0.25],[-0.25,2,0.25]]]})";
+
 // A floor, a 0.5 m square light facing down at y = 2 and one to four occluders on a dyadic grid
 // (multiples of 1/8): horizontal, vertical and 45-degree cards, L-shaped cards given both ways
 // round, boxes standing on the floor or floating; a third of the cards reach up into the light's
@@ -121,11 +130,7 @@ std::string degenerateCardsJson(std::uint64_t seed) {
     return c;
   };
   std::ostringstream json;
-  json << R"({"penumbra": 1, "materials": {"white": {"reflectance": [0.7, 0.7, 0.7]},
-    "lamp": {"reflectance": [0, 0, 0], "emission": [10, 10, 10]}}, "objects": [
-    {"name": "floor", "material": "white", "polygons": [[[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]]]},
-    {"name": "lamp", "material": "lamp",
-     "polygons": [[[-0.25,2,-0.25],[0.25,2,-0.25],[0.25,2,0.25],[-0.25,2,0.25]]]})";
+  json << kSmallLampOverFloor;
   const int count = 1 + int(rng() % 4);
   for (int k = 0; k < count; ++k) {
     std::vector<Corners> polygons;
@@ -185,11 +190,7 @@ std::string degenerateCardsJson(std::uint64_t seed) {
 // A card standing on the light's edge (its corner on the edge) above an L-shaped card: the case
 // tests/dm/discontinuity_mesh_engine_test.cpp's CardStandingOnTheLightsEdgeIsExact pins down.
 std::string cardOnTheLightsEdgeJson() {
-  return R"({"penumbra": 1, "materials": {"white": {"reflectance": [0.7, 0.7, 0.7]},
-    "lamp": {"reflectance": [0, 0, 0], "emission": [10, 10, 10]}}, "objects": [
-    {"name": "floor", "material": "white", "polygons": [[[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]]]},
-    {"name": "lamp", "material": "lamp",
-     "polygons": [[[-0.25,2,-0.25],[0.25,2,-0.25],[0.25,2,0.25],[-0.25,2,0.25]]]},
+  return std::string(kSmallLampOverFloor) + R"(,
     {"name": "L", "material": "white", "polygons": [
       [[-0.5,1,-0.5],[0.3,1,-0.5],[0.3,1,-0.1],[-0.1,1,-0.1],[-0.1,1,0.5],[-0.5,1,0.5]],
       [[-0.5,1,0.5],[-0.1,1,0.5],[-0.1,1,-0.1],[0.3,1,-0.1],[0.3,1,-0.5],[-0.5,1,-0.5]]]},

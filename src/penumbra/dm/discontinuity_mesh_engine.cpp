@@ -1216,16 +1216,13 @@ std::optional<DiscontinuityMeshEngine::Query> DiscontinuityMeshEngine::query(con
   std::optional<int> face;
   for (const ReceiverMatch& m : matches) {
     if (dot(posed_->polygons[m.polygon].plane.normal, nearestNormal) < 1 - 1e-9) continue;
-    const auto meshed = receivers_.find(m.polygon);
-    if (meshed == receivers_.end()) continue;
-    face = meshed->second.mesh.locate(posed_->polygons[m.polygon].plane.project(p));
+    face = receivers_.at(m.polygon).mesh.locate(posed_->polygons[m.polygon].plane.project(p));
     if (face) {
       match = &m;
       break;
     }
   }
-  const auto it = receivers_.find(match->polygon);
-  if (it == receivers_.end()) return std::nullopt;
+  const auto it = receivers_.find(match->polygon);  // every match has a mesh (above)
   const WorldPolygon& receiver = posed_->polygons[match->polygon];
   const Vec3 onPlane = receiver.plane.project(p);
   const auto atPointFor = [&](Answer why) {
