@@ -4,6 +4,9 @@
 //
 // Usage: dm_update_bench [SCENE...]  (default: desk-145, desk-475, the chair room, and a generated
 // 1,000-polygon room with 5 frames)
+//        dm_update_bench --steps N SCENE  one full build, then N frame steps by update alone, the
+// frames walked forth and back (1, 2, ..., last, last-1, ..., 0, 1, ...): the median step and the
+// median of each stage, for profiling the update without full builds beside it
 //        dm_update_bench --scale [N,N,...]  generated rooms of these many polygons (default 1,000
 // and 10,000; seed 1, 4 frames, the same 0.15 m box moving above the central desk): one full build
 // each, then the box's steps by update alone (no full build beside them: a 10,000-polygon room's
@@ -141,8 +144,47 @@ double scaleStep(int polygons) {
   return median(steps);
 }
 
+// `steps` frame steps of `scene` by update alone, walking the frames forth and back.
+void updateSteps(const std::string& name, int steps) {
+  const Scene scene = loadScene(name);
+  if (scene.frames < 2) throw std::invalid_argument(name + ": --steps needs a moving scene");
+  DynamicScene live(scene, 0);
+  DiscontinuityMeshEngine engine;
+  engine.build(live);
+  std::vector<double> step, meshing, eee, verification, other;
+  int frame = 0, direction = 1;
+  for (int i = 0; i < steps; ++i) {
+    if (frame + direction < 0 || frame + direction >= scene.frames) direction = -direction;
+    frame += direction;
+    const SceneChange change = live.changeToFrame(frame);
+    const double cpu = cpuSeconds();
+    live.apply(change);
+    engine.update(live, change);
+    step.push_back(cpuSeconds() - cpu);
+    const DmStats s = engine.stats();
+    meshing.push_back(s.secondsMeshing);
+    eee.push_back(s.secondsEee);
+    verification.push_back(s.secondsVerification);
+    other.push_back(s.secondsSurfaces + s.secondsCasting + s.secondsBackprojections);
+  }
+  std::printf(
+      "%s: %d update steps, median processor time %.4f s; median stages s: meshing %.4f EEE "
+      "%.4f verification %.4f surfaces+casting+backprojections %.4f\n",
+      name.c_str(), steps, median(step), median(meshing), median(eee), median(verification),
+      median(other));
+}
+
 int run(int argc, char** argv) {
   const std::string root = PENUMBRA_SOURCE_DIR;
+  if (argc == 4 && std::string(argv[1]) == "--steps") {
+    char* end = nullptr;
+    const long steps = std::strtol(argv[2], &end, 10);
+    if (*end != '\0' || steps < 1 || steps > 1'000'000)
+      throw std::invalid_argument(std::string("--steps: '") + argv[2] +
+                                  "' is not a step count from 1 to 1,000,000");
+    updateSteps(argv[3], int(steps));
+    return 0;
+  }
   if (argc > 1 && std::string(argv[1]) == "--scale") {
     std::vector<int> sizes{1000, 10000};
     if (argc > 2) {

@@ -74,7 +74,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
 
   const std::vector<Element> roots = rootElements(scene_, polygonRoots_);
   CHECK(!roots.empty());
-  contacts_ = faceContacts(scene_);
+  contacts_ = coveringPolygons(scene_);
   double totalArea = 0, emittedPower = 0;
   elements_.reserve(roots.size() * 4);
   for (const Element& root : roots) {
@@ -280,8 +280,24 @@ GalerkinRadiosity::GElement::Cover GalerkinRadiosity::freshCover(const GElement&
 std::optional<int> GalerkinRadiosity::leafContaining(const Vec3& point, const Vec3& normal) const {
   if (elements_.empty() || !grid_) return std::nullopt;
   const auto receiver = locateReceiver(scene_, *grid_, point, normal);
-  if (!receiver || polygonRoots_[receiver->polygon].empty()) return std::nullopt;
-  const auto& roots = polygonRoots_[receiver->polygon];
+  if (!receiver) return std::nullopt;
+  // Of polygons lying on one another facing the same way, the point is on the one on top
+  // (coveringPolygons): the locator may have found one below it, covered there. The relation
+  // orders them (lights over the rest, then by id), so the climb ends.
+  PolygonId polygon = receiver->polygon;
+  for (bool climbed = true; climbed;) {
+    climbed = false;
+    for (PolygonId partner : contacts_[polygon])
+      if (dot(scene_.polygons[partner].plane.normal, scene_.polygons[polygon].plane.normal) > 0 &&
+          std::any_of(polygonRoots_[partner].begin(), polygonRoots_[partner].end(),
+                      [&](int root) { return elements_[root].shape.insideness(point) > 0; })) {
+        polygon = partner;
+        climbed = true;
+        break;
+      }
+  }
+  if (polygonRoots_[polygon].empty()) return std::nullopt;
+  const auto& roots = polygonRoots_[polygon];
   int id = roots[0];
   for (int root : roots)
     if (elements_[root].shape.insideness(point) > elements_[id].shape.insideness(point)) id = root;

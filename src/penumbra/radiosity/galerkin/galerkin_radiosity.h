@@ -679,9 +679,10 @@ class GalerkinRadiosity {
   const RayCaster* rays_ = nullptr;
   std::vector<GElement> elements_;
   std::vector<std::vector<int>> polygonRoots_;
-  std::vector<std::vector<PolygonId>> contacts_;  // polygons in face-to-face contact with each
-  std::vector<GCluster> clusters_;                // [0] is the root
-  std::vector<int> rootOrder_;                    // root elements in cluster order
+  // The polygons that may cover each polygon (coveringPolygons).
+  std::vector<std::vector<PolygonId>> contacts_;
+  std::vector<GCluster> clusters_;  // [0] is the root
+  std::vector<int> rootOrder_;      // root elements in cluster order
   std::vector<GLink> links_;
   long long linkCount_ = 0;  // active and passive pairs (the --max-links budget)
   GalerkinUpdateStats lastUpdate_;

@@ -41,7 +41,8 @@ std::string GalerkinRadiosity::verifyLinks() const {
                " is not where the polygon is";
     }
   }
-  if (faceContacts(scene_) != contacts_) return "the stored face contacts are not the scene's";
+  if (coveringPolygons(scene_) != contacts_)
+    return "the stored covering polygons are not the scene's";
   for (size_t i = 0; i < elements_.size(); ++i) {
     const GElement& e = elements_[i];
     if (freshCover(e) != e.cover || coveredPointsOf(e) != e.coveredPoints)
