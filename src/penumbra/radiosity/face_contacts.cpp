@@ -27,10 +27,8 @@ void forEachCoplanarPair(const PosedScene& scene, Pair&& pair) {
       const WorldPolygon* a = &scene.polygons[order[i].second];
       const WorldPolygon* b = &scene.polygons[order[j].second];
       const double cosine = dot(a->plane.normal, b->plane.normal);
-      // Back to back in one object: the two sides of a sheet (a card, a leaf), both exposed. A
-      // closed object has no such pair; polygons of two objects facing each other are in contact.
       const bool facing = cosine <= -1 + 1e-9;
-      if (facing ? a->objectIndex == b->objectIndex : cosine < 1 - 1e-9) continue;
+      if (!facing && cosine < 1 - 1e-9) continue;
       if (!a->bounds.expanded(slack).overlaps(b->bounds)) continue;
       bool coplanar = true;
       for (const Vec3& v : b->vertices)
@@ -54,13 +52,15 @@ std::vector<std::vector<PolygonId>> faceContacts(const PosedScene& scene) {
     contacts[a.id].push_back(b.id);
     contacts[b.id].push_back(a.id);
   });
-  sortEach(contacts);
   return contacts;
 }
 
 std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene) {
   std::vector<std::vector<PolygonId>> covering(scene.polygons.size());
   forEachCoplanarPair(scene, [&](const WorldPolygon& a, const WorldPolygon& b, bool facing) {
+    // Back to back in one object: the two sides of a sheet (a card, a leaf), both exposed. A
+    // closed object has no such pair; polygons of two objects facing each other are in contact.
+    if (facing && a.objectIndex == b.objectIndex) return;
     if (facing) {
       covering[a.id].push_back(b.id);
       covering[b.id].push_back(a.id);
