@@ -90,20 +90,11 @@ PathTracedEstimate PathTracedReference::irradiance(const Vec3& point, const Vec3
       const double azimuth = rng.uniform(), radius = rng.uniform();
       const Vec3 d = cosineDirection(n, radius, azimuth);
       ++estimate.rays;
-      std::optional<RayHit> hit =
-          caster_.intersect(x, d, caster_.epsilon(), std::numeric_limits<double>::infinity(), from);
+      // The side of a two-sided card facing the ray, not whichever the caster returns: taking
+      // its back, a path ended there (the cards of a generated room read as half black).
+      const auto hit = firstSurfaceSeen(caster_, scene_, x, d, caster_.epsilon(),
+                                        std::numeric_limits<double>::infinity(), from);
       if (!hit) break;
-      // Two polygons back to back in one plane (the sides of a two-sided card) meet the ray at one
-      // distance and the caster returns either: the side facing the ray is what it sees. Taking
-      // the back half the time, a generated room's two-sided cards read as half black (its indirect
-      // light 5% low).
-      if (dot(scene_.polygons[hit->polygon].plane.normal, d) >= 0) {
-        const auto twin =
-            caster_.intersect(x, d, caster_.epsilon(), hit->t + caster_.epsilon(), hit->polygon);
-        if (twin && twin->t >= hit->t - caster_.epsilon() &&
-            dot(scene_.polygons[twin->polygon].plane.normal, d) < 0)
-          hit = twin;
-      }
       const WorldPolygon& met = scene_.polygons[hit->polygon];
       if (dot(met.plane.normal, d) >= 0) break;  // its back: nothing comes from there
       const Rgb rho = scene_.materialOf(met).reflectance;

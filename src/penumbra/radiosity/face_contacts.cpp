@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "penumbra/geometry/polygon.h"
 
 namespace penumbra {
 
@@ -39,6 +42,71 @@ void forEachCoplanarPair(const PosedScene& scene, Pair&& pair) {
     }
 }
 
+// A point strictly inside both polygons of a coplanar pair (their centroids, the point between
+// them, the middle of their bounds' overlap: the first inside both), or nothing.
+std::optional<Vec3> commonPoint(const WorldPolygon& a, const WorldPolygon& b) {
+  const PlaneFrame frame = PlaneFrame::fromPlane(a.plane, a.vertices[0]);
+  const auto loop = [&](const WorldPolygon& p) {
+    Polygon2 out;
+    for (const Vec3& v : p.vertices) out.push_back(frame.toLocal(v));
+    return out;
+  };
+  const Polygon2 loopA = loop(a), loopB = loop(b);
+  const double slack = 1e-9 * std::max(diameter(a.vertices), diameter(b.vertices));
+  const Vec3 low = componentMax(a.bounds.min, b.bounds.min),
+             high = componentMin(a.bounds.max, b.bounds.max);
+  const Vec3 ca = centroid(a.vertices), cb = centroid(b.vertices);
+  for (const Vec3& q : {cb, ca, (ca + cb) * 0.5, (low + high) * 0.5}) {
+    const Vec2 local = frame.toLocal(q);
+    if (containsPoint(loopA, local) && containsPoint(loopB, local) &&
+        !isNearBoundary(loopA, local, slack) && !isNearBoundary(loopB, local, slack))
+      return q;
+  }
+  return std::nullopt;
+}
+
+// Are two polygons back to back in one plane the two sides of a sheet (a two-sided card), not
+// two surfaces in face-to-face contact? In contact, the polygon lying on the other is a face of a
+// solid (a box on the floor, a book on a shelf, a cushion on a seat): from just in front of one of
+// them, a ray meets the solid's other faces from behind. Objects are not always closed on their own
+// (a chair's leg is open where it meets the seat: straight up, a ray leaves it), so nine rays
+// fan out over each side: a sheet has open space on both, every ray meeting a surface's front or
+// nothing. Either answer holds where a ray first meets the back of a one-sided polygon elsewhere
+// (the pair is then taken as in contact, as before sheets were told apart).
+bool isSheet(const RayCaster& rays, const PosedScene& scene, const WorldPolygon& a,
+             const WorldPolygon& b) {
+  const std::optional<Vec3> q = commonPoint(a, b);
+  if (!q) return false;
+  const double step = 4 * rays.epsilon();
+  bool decided = false;  // some ray saw open space (a front face or nothing) without doubt
+  for (const WorldPolygon* side : {&a, &b}) {
+    const PlaneFrame frame = PlaneFrame::fromPlane(side->plane, *q);
+    const Vec3 n = frame.n, u = frame.u, v = frame.v;
+    for (const Vec3& direction : {n, n + u, n - u, n + v, n - v, n * 0.3 + u + v, n * 0.3 + u - v,
+                                  n * 0.3 - u + v, n * 0.3 - u - v}) {
+      const Vec3 d = normalize(direction), from = *q + n * step;
+      const auto hit =
+          rays.intersect(from, d, rays.epsilon(), std::numeric_limits<double>::infinity());
+      if (!hit) {
+        decided = true;
+        continue;
+      }
+      // Two polygons back to back where the ray arrives are the sides of a sheet or two solids
+      // pressed together (a stack of books): the caster returns either, and this ray cannot tell
+      // whether it left a solid.
+      const auto twin =
+          rays.intersect(from, d, rays.epsilon(), hit->t + rays.epsilon(), hit->polygon);
+      if (twin && twin->t >= hit->t - rays.epsilon() &&
+          dot(scene.polygons[twin->polygon].plane.normal,
+              scene.polygons[hit->polygon].plane.normal) <= -1 + 1e-9)
+        continue;
+      if (dot(scene.polygons[hit->polygon].plane.normal, d) > 0) return false;
+      decided = true;
+    }
+  }
+  return decided;
+}
+
 void sortEach(std::vector<std::vector<PolygonId>>& lists) {
   for (std::vector<PolygonId>& list : lists) std::sort(list.begin(), list.end());
 }
@@ -55,12 +123,11 @@ std::vector<std::vector<PolygonId>> faceContacts(const PosedScene& scene) {
   return contacts;
 }
 
-std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene) {
+std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene,
+                                                     const RayCaster& rays) {
   std::vector<std::vector<PolygonId>> covering(scene.polygons.size());
   forEachCoplanarPair(scene, [&](const WorldPolygon& a, const WorldPolygon& b, bool facing) {
-    // Back to back in one object: the two sides of a sheet (a card, a leaf), both exposed. A
-    // closed object has no such pair; polygons of two objects facing each other are in contact.
-    if (facing && a.objectIndex == b.objectIndex) return;
+    if (facing && isSheet(rays, scene, a, b)) return;  // both sides exposed
     if (facing) {
       covering[a.id].push_back(b.id);
       covering[b.id].push_back(a.id);

@@ -319,4 +319,19 @@ bool RayCaster::isOccluded(const Vec3& from, const Vec3& to) const {
   return ray.tfar < 0;
 }
 
+std::optional<RayHit> firstSurfaceSeen(const RayCaster& rays, const PosedScene& scene,
+                                       const Vec3& origin, const Vec3& direction, double tMin,
+                                       double tMax, PolygonId ignored) {
+  std::optional<RayHit> hit = rays.intersect(origin, direction, tMin, tMax, ignored);
+  if (hit && dot(scene.polygons[hit->polygon].plane.normal, direction) >= 0) {
+    const auto twin = rays.intersect(origin, direction, tMin,
+                                     std::min(tMax, hit->t + rays.epsilon()), hit->polygon);
+    const Vec3& normal = scene.polygons[hit->polygon].plane.normal;
+    if (twin && twin->t >= hit->t - rays.epsilon() &&
+        dot(scene.polygons[twin->polygon].plane.normal, normal) <= -1 + 1e-9)
+      hit = twin;
+  }
+  return hit;
+}
+
 }  // namespace penumbra

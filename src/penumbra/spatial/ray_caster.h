@@ -86,4 +86,11 @@ class RayCaster {
   std::unique_ptr<Impl> impl_;
 };
 
+// The surface a ray sees first: intersect's hit, except where two polygons back to back in one
+// plane (the two sides of a two-sided card) meet the ray at one distance, within epsilon(): the
+// caster returns either, and the side facing the ray is the one seen.
+std::optional<RayHit> firstSurfaceSeen(const RayCaster& rays, const PosedScene& scene,
+                                       const Vec3& origin, const Vec3& direction, double tMin,
+                                       double tMax, PolygonId ignored = RayCaster::kNoPolygon);
+
 }  // namespace penumbra
