@@ -38,8 +38,7 @@ TEST(CoveringPolygons, SolidsInContactSheetsAndLayers) {
   b.addPolygon("lamp", {{0.9, 2, 0.9}, {1.1, 2, 0.9}, {1.1, 2, 1.1}, {0.9, 2, 1.1}}, "lamp");
   const PosedScene scene = b.pose();
   ASSERT_EQ(scene.polygons.size(), 33u);
-  const RayCaster rays(scene);
-  const auto covering = coveringPolygons(scene, rays);
+  const auto covering = coveringPolygons(scene);
   EXPECT_TRUE(covers(covering, 2, 8) && covers(covering, 8, 2));      // the leg on the floor
   EXPECT_TRUE(covers(covering, 20, 25) && covers(covering, 25, 20));  // stacked slabs
   EXPECT_TRUE(covers(covering, 2, 19) && covers(covering, 19, 2));    // the lower slab's bottom

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "penumbra/geometry/polygon.h"
 
@@ -65,19 +68,38 @@ std::optional<Vec3> commonPoint(const WorldPolygon& a, const WorldPolygon& b) {
   return std::nullopt;
 }
 
+// Where a ray from `from` along unit `d` first meets a polygon: its distance, or nothing.
+std::optional<double> rayMeets(const WorldPolygon& polygon, const Vec3& from, const Vec3& d) {
+  const double along = dot(polygon.plane.normal, d);
+  if (along == 0) return std::nullopt;
+  const double t = -polygon.plane.signedDistance(from) / along;
+  if (!(t > 0)) return std::nullopt;
+  const Vec3 x = from + d * t;
+  const PlaneFrame frame = PlaneFrame::fromPlane(polygon.plane, polygon.vertices[0]);
+  Polygon2 loop;
+  for (const Vec3& v : polygon.vertices) loop.push_back(frame.toLocal(v));
+  if (!containsPoint(loop, frame.toLocal(x))) return std::nullopt;
+  return t;
+}
+
 // Are two polygons back to back in one plane the two sides of a sheet (a two-sided card), not
 // two surfaces in face-to-face contact? In contact, the polygon lying on the other is a face of a
 // solid (a box on the floor, a book on a shelf, a cushion on a seat): from just in front of one of
-// them, a ray meets the solid's other faces from behind. Objects are not always closed on their own
-// (a chair's leg is open where it meets the seat: straight up, a ray leaves it), so nine rays
-// fan out over each side: a sheet has open space on both, every ray meeting a surface's front or
-// nothing. Either answer holds where a ray first meets the back of a one-sided polygon elsewhere
-// (the pair is then taken as in contact, as before sheets were told apart).
-bool isSheet(const RayCaster& rays, const PosedScene& scene, const WorldPolygon& a,
-             const WorldPolygon& b) {
+// them, a ray meets the solid's other faces from behind. Objects are not always closed on their
+// own (a chair's leg is open where it meets the seat: straight up, a ray leaves it), so nine rays
+// fan out over each side: a sheet has open space on both, every ray meeting a front face or
+// nothing. The rays meet only the two polygons' own objects (`objectPolygons`): the answer is
+// theirs, and no other object moving by changes it (an update relies on a cover changing only
+// where a polygon in contact moved).
+bool isSheet(const PosedScene& scene, const std::vector<std::vector<PolygonId>>& objectPolygons,
+             const WorldPolygon& a, const WorldPolygon& b) {
   const std::optional<Vec3> q = commonPoint(a, b);
   if (!q) return false;
-  const double step = 4 * rays.epsilon();
+  const double tolerance = 1e-9 * std::max(1.0, scene.extent.diagonalLength());
+  const double step = 1e3 * tolerance;
+  std::vector<PolygonId> candidates = objectPolygons[size_t(a.objectIndex)];
+  if (b.objectIndex != a.objectIndex)
+    for (PolygonId p : objectPolygons[size_t(b.objectIndex)]) candidates.push_back(p);
   bool decided = false;  // some ray saw open space (a front face or nothing) without doubt
   for (const WorldPolygon* side : {&a, &b}) {
     const PlaneFrame frame = PlaneFrame::fromPlane(side->plane, *q);
@@ -85,22 +107,24 @@ bool isSheet(const RayCaster& rays, const PosedScene& scene, const WorldPolygon&
     for (const Vec3& direction : {n, n + u, n - u, n + v, n - v, n * 0.3 + u + v, n * 0.3 + u - v,
                                   n * 0.3 - u + v, n * 0.3 - u - v}) {
       const Vec3 d = normalize(direction), from = *q + n * step;
-      const auto hit =
-          rays.intersect(from, d, rays.epsilon(), std::numeric_limits<double>::infinity());
-      if (!hit) {
-        decided = true;
-        continue;
+      // The polygons met first, within the tolerance of one another.
+      double nearest = std::numeric_limits<double>::infinity();
+      std::vector<std::pair<double, PolygonId>> met;
+      for (PolygonId p : candidates) {
+        if (p == a.id || p == b.id) continue;
+        if (const auto t = rayMeets(scene.polygons[size_t(p)], from, d)) {
+          met.push_back({*t, p});
+          nearest = std::min(nearest, *t);
+        }
       }
+      bool front = false, back = false;
+      for (const auto& [t, p] : met)
+        if (t <= nearest + tolerance)
+          (dot(scene.polygons[size_t(p)].plane.normal, d) > 0 ? back : front) = true;
       // Two polygons back to back where the ray arrives are the sides of a sheet or two solids
-      // pressed together (a stack of books): the caster returns either, and this ray cannot tell
-      // whether it left a solid.
-      const auto twin =
-          rays.intersect(from, d, rays.epsilon(), hit->t + rays.epsilon(), hit->polygon);
-      if (twin && twin->t >= hit->t - rays.epsilon() &&
-          dot(scene.polygons[twin->polygon].plane.normal,
-              scene.polygons[hit->polygon].plane.normal) <= -1 + 1e-9)
-        continue;
-      if (dot(scene.polygons[hit->polygon].plane.normal, d) > 0) return false;
+      // pressed together (a stack of books): this ray cannot tell whether it left a solid.
+      if (front && back) continue;
+      if (back) return false;
       decided = true;
     }
   }
@@ -123,11 +147,14 @@ std::vector<std::vector<PolygonId>> faceContacts(const PosedScene& scene) {
   return contacts;
 }
 
-std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene,
-                                                     const RayCaster& rays) {
-  std::vector<std::vector<PolygonId>> covering(scene.polygons.size());
+std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene) {
+  std::vector<std::vector<PolygonId>> covering(scene.polygons.size()), objectPolygons;
+  for (const WorldPolygon& p : scene.polygons) {
+    if (objectPolygons.size() <= size_t(p.objectIndex)) objectPolygons.resize(p.objectIndex + 1);
+    objectPolygons[size_t(p.objectIndex)].push_back(p.id);
+  }
   forEachCoplanarPair(scene, [&](const WorldPolygon& a, const WorldPolygon& b, bool facing) {
-    if (facing && isSheet(rays, scene, a, b)) return;  // both sides exposed
+    if (facing && isSheet(scene, objectPolygons, a, b)) return;  // both sides exposed
     if (facing) {
       covering[a.id].push_back(b.id);
       covering[b.id].push_back(a.id);

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "penumbra/scene/posed_scene.h"
-#include "penumbra/spatial/ray_caster.h"
 
 namespace penumbra {
 
@@ -17,17 +16,16 @@ namespace penumbra {
 std::vector<std::vector<PolygonId>> faceContacts(const PosedScene& scene);
 
 // For each polygon, the polygons that may cover part of it: those in face-to-face contact with it
-// (not the other side of a sheet, told apart by rays from between them: taken as covering each
-// other, both sides of a two-sided card received nothing), and those lying on it in one plane
-// facing the same way that come later in the scene (a rug on a floor, a decal, a box's bottom on
-// the floor with its faces turned inwards: the later lies on top), except that a light lies on top
-// of a polygon that emits nothing (a lamp set into the ceiling's plane, whichever comes first).
-// Where a polygon is covered it neither receives nor sends light. Without the second kind both
-// polygons of such a pair take the light that arrives where they overlap and both send it on: a
-// closed cavity over such a pair (an inside-out box standing on the floor) returns more light than
-// reaches it, and its radiosity grew without bound (1e5 times the room's, refinement past millions
-// of links).
-std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene,
-                                                     const RayCaster& rays);
+// (not the other side of a sheet, told apart by rays from between them against the two polygons'
+// objects: taken as covering each other, both sides of a two-sided card received nothing), and
+// those lying on it in one plane facing the same way that come later in the scene (a rug on a
+// floor, a decal, a box's bottom on the floor with its faces turned inwards: the later lies on
+// top), except that a light lies on top of a polygon that emits nothing (a lamp set into the
+// ceiling's plane, whichever comes first). Where a polygon is covered it neither receives nor sends
+// light. Without the second kind both polygons of such a pair take the light that arrives where
+// they overlap and both send it on: a closed cavity over such a pair (an inside-out box standing on
+// the floor) returns more light than reaches it, and its radiosity grew without bound (1e5 times
+// the room's, refinement past millions of links).
+std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene);
 
 }  // namespace penumbra
