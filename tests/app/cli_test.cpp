@@ -658,11 +658,12 @@ TEST(Cli, RadiosityLineSpaceUpdateIsVerifiedAtEveryFrame) {
   const std::string scene =
       std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-everything-moves.json";
   const std::string path = dir.path("verify.json");
+  // DESIGN §6's form, without --solver: the line-space update is the Galerkin solver's.
   const RunResult r =
-      runPenumbra("radiosity " + scene +
-                  " --solver galerkin --update verify --tolerance 3e-3 --report " + path);
+      runPenumbra("radiosity " + scene + " --update verify --tolerance 3e-3 --report " + path);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json report = nlohmann::json::parse(std::ifstream(path));
+  EXPECT_EQ(report["method"], "galerkin");
   EXPECT_EQ(report["update"], "verify");
   ASSERT_EQ(report["frames"].size(), 4u);
   for (size_t f = 1; f < report["frames"].size(); ++f) {
@@ -680,7 +681,7 @@ TEST(Cli, RadiosityLineSpaceUpdateIsVerifiedAtEveryFrame) {
     EXPECT_EQ(frame["pending_clean_ups"], 0);
   }
   for (const std::string& wrong :
-       {"radiosity " + scene + " --update linespace",  // the hierarchical solver has none
+       {"radiosity " + scene + " --solver hierarchical --update linespace",  // it has none
         "radiosity " + scene + " --solver galerkin --update sideways",
         // a frame budget makes the hierarchy depend on the machine: not with verify
         "radiosity " + scene + " --solver galerkin --update verify --frame-budget 5"}) {
@@ -745,7 +746,7 @@ TEST(Cli, RadiosityShaftPoliciesReportTheirBytes) {
   }
   for (const std::string& wrong :
        {"radiosity " + scene + " --solver galerkin --update linespace --shafts some",
-        "radiosity " + scene + " --shafts managed"}) {
+        "radiosity " + scene + " --solver hierarchical --shafts managed"}) {
     const RunResult refused = runPenumbra(wrong);
     EXPECT_EQ(refused.exitCode, 1) << wrong << ": " << refused.output;
     EXPECT_NE(refused.output.find("--shafts"), std::string::npos) << refused.output;

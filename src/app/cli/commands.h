@@ -84,7 +84,10 @@ struct RadiosityCommandOptions {
   std::string scene;
   std::string frames;  // A:B, empty: all frames
   std::string update = "full";
-  std::string solver = "hierarchical";  // or galerkin
+  // hierarchical | galerkin. Empty: galerkin where the line-space update or its shaft policy is
+  // asked for (DESIGN §6's `radiosity SCENE --update linespace|verify`; only it has them), else
+  // hierarchical.
+  std::string solver;
   RadiosityOptions radiosity;
   double frameBudgetMs = 0;  // --update linespace: GalerkinOptions::frameBudgetSeconds
   std::string shafts;        // all | managed (GalerkinOptions::shafts); empty: the solver's own

@@ -125,10 +125,12 @@ int main(int argc, char** argv) {
   radiosityCommand->add_option("--frames", radiosity.frames, "Frames A:B (default: all)");
   radiosityCommand
       ->add_option("--update", radiosity.update,
-                   "full | linespace | verify (the line-space update: --solver galerkin)")
+                   "full | linespace | verify (the line-space update: --solver galerkin's, "
+                   "which linespace and verify choose when --solver is not given)")
       ->capture_default_str();
   radiosityCommand->add_option("--solver", radiosity.solver,
-                               "hierarchical (with a final gather) | galerkin (linear elements)");
+                               "hierarchical (with a final gather; the default with --update full "
+                               "and no --shafts) | galerkin (linear elements)");
   radiosityCommand->add_option("--tolerance", radiosity.radiosity.tolerance, "Refinement tolerance")
       ->capture_default_str()
       ->check(kPositiveFinite);

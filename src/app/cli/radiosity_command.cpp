@@ -245,7 +245,11 @@ int runGalerkin(const RadiosityCommandOptions& options, const CommonOptions& com
 
 }  // namespace
 
-int runRadiosity(const RadiosityCommandOptions& options, const CommonOptions& common) {
+int runRadiosity(const RadiosityCommandOptions& given, const CommonOptions& common) {
+  RadiosityCommandOptions options = given;
+  if (options.solver.empty())
+    options.solver =
+        options.update != "full" || !options.shafts.empty() ? "galerkin" : "hierarchical";
   if (options.solver != "hierarchical" && options.solver != "galerkin")
     throw UsageError("--solver " + options.solver +
                      " is not available (available: hierarchical, galerkin)");
