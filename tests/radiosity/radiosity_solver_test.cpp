@@ -592,6 +592,44 @@ TEST(RadiositySolver, IrradianceAtPointsSplitsDirectAndIndirect) {
   EXPECT_FALSE(solver.sample({0.3, 0.3, 0.3}, {0, 1, 0}));
 }
 
+// An inside-out box standing on the floor (its bottom lies on the floor facing the same way): a
+// closed cavity that no light enters. Both the box's bottom and the floor under it took the light
+// arriving there, so the cavity returned more than it received: refinement went past the link
+// budget. The box's bottom now lies on top (coveringPolygons); the cavity stays dark, and a point
+// on a rug lying on the floor is answered from the rug.
+TEST(RadiositySolver, AnInsideOutBoxOnTheFloorStaysDark) {
+  test::SceneBuilder b;
+  b.addMaterial("wall", Rgb::gray(0.9)).addMaterial("lamp", Rgb::gray(0), Rgb::gray(10));
+  b.addMaterial("rug", Rgb::gray(0.2));
+  test::addRoom(b, "wall", {0, 0, 0}, {2, 2, 2});
+  b.addPolygon(
+      "lamp",
+      {{0.625, 1.75, 0.375}, {1.125, 1.75, 0.375}, {1.125, 1.75, 0.875}, {0.625, 1.75, 0.875}},
+      "lamp");
+  for (Polygon3 f : test::boxFaces({1.5, 0, 1.5}, {1.875, 0.625, 1.875})) {
+    std::reverse(f.begin(), f.end());
+    b.addPolygon("wall", f, "inside-out box");
+  }
+  b.addPolygon("rug", {{0.25, 0, 1.25}, {0.25, 0, 1.75}, {1.0, 0, 1.75}, {1.0, 0, 1.25}}, "rug");
+  RadiositySolver solver;
+  solver.build(b.pose());
+  const double floor = solver.irradiance({0.5, 0, 0.5}, {0, 1, 0}).average();
+  const double inside = solver.irradiance({1.875, 0.3, 1.6}, {-1, 0, 0}).average();
+  const double onTheFloorInside = solver.irradiance({1.6, 0, 1.6}, {0, 1, 0}).average();
+  const auto onTheRug = solver.sample({0.5, 0, 1.5}, {0, 1, 0});
+  ASSERT_TRUE(onTheRug);
+  std::printf(
+      "links %lld; floor %.4f, the cavity's wall %.2e, its floor %.2e; on the rug: "
+      "radiosity %.4f of irradiance %.4f\n",
+      solver.stats().activeLinks, floor, inside, onTheFloorInside, onTheRug->radiosity.average(),
+      onTheRug->total().average());
+  EXPECT_LT(inside, 1e-3 * floor);
+  EXPECT_LT(onTheFloorInside, 1e-3 * floor);
+  // The rug reflects 0.2 of what it receives (the floor under it would reflect 0.9).
+  EXPECT_NEAR(onTheRug->radiosity.average(), 0.2 * onTheRug->total().average(),
+              1e-3 * onTheRug->total().average());
+}
+
 }  // namespace
 }  // namespace penumbra
 

@@ -131,31 +131,17 @@ bool isSheet(const PosedScene& scene, const std::vector<std::vector<PolygonId>>&
   return decided;
 }
 
-void sortEach(std::vector<std::vector<PolygonId>>& lists) {
-  for (std::vector<PolygonId>& list : lists) std::sort(list.begin(), list.end());
-}
-
 }  // namespace
 
-std::vector<std::vector<PolygonId>> faceContacts(const PosedScene& scene) {
-  std::vector<std::vector<PolygonId>> contacts(scene.polygons.size());
-  forEachCoplanarPair(scene, [&](const WorldPolygon& a, const WorldPolygon& b, bool facing) {
-    if (!facing) return;
-    contacts[a.id].push_back(b.id);
-    contacts[b.id].push_back(a.id);
-  });
-  return contacts;
-}
-
-std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene) {
+std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene, SheetSides sheets) {
   std::vector<std::vector<PolygonId>> covering(scene.polygons.size()), objectPolygons;
   for (const WorldPolygon& p : scene.polygons) {
     if (objectPolygons.size() <= size_t(p.objectIndex)) objectPolygons.resize(p.objectIndex + 1);
     objectPolygons[size_t(p.objectIndex)].push_back(p.id);
   }
   forEachCoplanarPair(scene, [&](const WorldPolygon& a, const WorldPolygon& b, bool facing) {
-    if (facing && isSheet(scene, objectPolygons, a, b)) return;  // both sides exposed
     if (facing) {
+      if (sheets == SheetSides::kExposed && isSheet(scene, objectPolygons, a, b)) return;
       covering[a.id].push_back(b.id);
       covering[b.id].push_back(a.id);
     } else if (a.isLight && !b.isLight) {
@@ -164,7 +150,6 @@ std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene) {
       covering[a.id].push_back(b.id);
     }
   });
-  sortEach(covering);
   return covering;
 }
 

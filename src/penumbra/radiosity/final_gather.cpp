@@ -120,8 +120,11 @@ int RadiositySolver::leafAt(PolygonId polygon, const Vec3& y) const {
 
 int RadiositySolver::coveringLeaf(PolygonId polygon, const Vec3& x) const {
   for (PolygonId partner : contacts_[polygon])
-    for (int root : polygonRoots_[partner])
-      if (elements_[root].insideness(x) > 0) return leafAt(partner, x);
+    // Only a polygon in contact face to face is what the point sees; one lying on it facing the
+    // same way (coveringPolygons) hides the point from everything.
+    if (dot(scene_.polygons[partner].plane.normal, scene_.polygons[polygon].plane.normal) < 0)
+      for (int root : polygonRoots_[partner])
+        if (elements_[root].insideness(x) > 0) return leafAt(partner, x);
   return -1;
 }
 

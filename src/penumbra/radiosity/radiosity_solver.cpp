@@ -107,7 +107,7 @@ void RadiositySolver::compute() {
   const auto start = std::chrono::steady_clock::now();
   visibleParts_ = std::make_unique<ExactReference>(scene_, grid_);
   elements_ = rootElements(scene_, polygonRoots_);
-  contacts_ = faceContacts(scene_);
+  contacts_ = coveringPolygons(scene_, SheetSides::kCoverEachOther);
   CHECK(!elements_.empty());
   ClusterHierarchy hierarchy = buildClusterHierarchy(elements_);
   rootOrder_ = std::move(hierarchy.rootOrder);

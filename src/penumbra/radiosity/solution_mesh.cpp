@@ -66,14 +66,30 @@ void RadiositySolver::buildMesh() {
 std::optional<int> RadiositySolver::leafContaining(const Vec3& point, const Vec3& normal) const {
   if (elements_.empty()) return std::nullopt;
   const auto receiver = locateReceiver(scene_, *grid_, point, normal);
-  if (!receiver || polygonRoots_[receiver->polygon].empty()) return std::nullopt;
+  if (!receiver) return std::nullopt;
+  // Of polygons lying on one another facing the same way, the point is on the one on top
+  // (coveringPolygons): the locator may have found one below it, covered there. The relation
+  // orders them (lights over the rest, then by id), so the climb ends.
+  PolygonId polygon = receiver->polygon;
+  for (bool climbed = true; climbed;) {
+    climbed = false;
+    for (PolygonId partner : contacts_[polygon])
+      if (dot(scene_.polygons[partner].plane.normal, scene_.polygons[polygon].plane.normal) > 0 &&
+          std::any_of(polygonRoots_[partner].begin(), polygonRoots_[partner].end(),
+                      [&](int root) { return elements_[root].insideness(point) > 0; })) {
+        polygon = partner;
+        climbed = true;
+        break;
+      }
+  }
+  if (polygonRoots_[polygon].empty()) return std::nullopt;
   const auto mostInside = [&](auto begin, auto end) {
     int best = *begin;
     for (auto it = begin; it != end; ++it)
       if (elements_[*it].insideness(point) > elements_[best].insideness(point)) best = *it;
     return best;
   };
-  const auto& roots = polygonRoots_[receiver->polygon];
+  const auto& roots = polygonRoots_[polygon];
   int id = mostInside(roots.begin(), roots.end());
   while (!elements_[id].isLeaf()) {
     const int first = elements_[id].firstChild;
