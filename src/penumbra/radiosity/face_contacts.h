@@ -32,4 +32,25 @@ enum class SheetSides { kCoverEachOther, kExposed };
 // Taken as covering each other, both sides of a two-sided card received nothing.
 std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene, SheetSides sheets);
 
+// Of polygons lying on one another facing the same way, the one on top at a point: from
+// `polygon` (where a locator found the point), the covering polygon facing its way for which
+// `holds(partner)` (the point lies on it), and so on up. The covering relation orders such
+// polygons (lights over the rest, then by id), so the climb ends.
+template <typename Holds>
+PolygonId polygonOnTop(const PosedScene& scene, const std::vector<std::vector<PolygonId>>& covering,
+                       PolygonId polygon, Holds&& holds) {
+  for (bool climbed = true; climbed;) {
+    climbed = false;
+    for (PolygonId partner : covering[size_t(polygon)])
+      if (dot(scene.polygons[size_t(partner)].plane.normal,
+              scene.polygons[size_t(polygon)].plane.normal) > 0 &&
+          holds(partner)) {
+        polygon = partner;
+        climbed = true;
+        break;
+      }
+  }
+  return polygon;
+}
+
 }  // namespace penumbra

@@ -281,21 +281,11 @@ std::optional<int> GalerkinRadiosity::leafContaining(const Vec3& point, const Ve
   if (elements_.empty() || !grid_) return std::nullopt;
   const auto receiver = locateReceiver(scene_, *grid_, point, normal);
   if (!receiver) return std::nullopt;
-  // Of polygons lying on one another facing the same way, the point is on the one on top
-  // (coveringPolygons): the locator may have found one below it, covered there. The relation
-  // orders them (lights over the rest, then by id), so the climb ends.
-  PolygonId polygon = receiver->polygon;
-  for (bool climbed = true; climbed;) {
-    climbed = false;
-    for (PolygonId partner : contacts_[polygon])
-      if (dot(scene_.polygons[partner].plane.normal, scene_.polygons[polygon].plane.normal) > 0 &&
-          std::any_of(polygonRoots_[partner].begin(), polygonRoots_[partner].end(),
-                      [&](int root) { return elements_[root].shape.insideness(point) > 0; })) {
-        polygon = partner;
-        climbed = true;
-        break;
-      }
-  }
+  // The locator may have found a polygon under another lying on it facing the same way.
+  const PolygonId polygon = polygonOnTop(scene_, contacts_, receiver->polygon, [&](PolygonId p) {
+    return std::any_of(polygonRoots_[p].begin(), polygonRoots_[p].end(),
+                       [&](int root) { return elements_[root].shape.insideness(point) > 0; });
+  });
   if (polygonRoots_[polygon].empty()) return std::nullopt;
   const auto& roots = polygonRoots_[polygon];
   int id = roots[0];
