@@ -11,12 +11,17 @@
 //                              [--galerkin [--repeat N] [--hidden-weight W]
 //                                          [--whole-hidden-weight W]]
 //                              [--gather-rays N] [--worst N] [--by-polygon]
+//                              [--degenerate-rooms A:B [--inside-out] [--moving]]
 //                              [scene.json ...]
 // --galerkin: the Galerkin core (radiosity/galerkin/) instead of the hierarchical solver with its
 // final gather; --repeat N solves each tolerance N times and reports the fastest; --hidden-weight
 // sets how many times a link's partly hidden transfer counts in its oracle, --whole-hidden-weight
 // that of a pair found wholly hidden; --worst N lists the N points with the largest errors under
 // each row (either solver); --by-polygon each receiver's mean signed indirect error (Galerkin).
+// --degenerate-rooms A:B: also the generated rooms of seeds A..B (degenerate_rooms.h: coincident
+// and touching polygons, two-sided cards, boxes against walls; --inside-out turns the boxes'
+// faces inwards, --moving gives one occluder three moves), written to the working folder as
+// degenerate-room-SEED[-inside-out][-moving].json for the CLI's verify modes.
 // --path-tracer: instead of solving, the path tracer's own median and p95 error and cost per point
 // with 16 ... 4,096 paths (what a solution must beat).
 // (default: the Cornell box at 1e-2 ... 1e-4, 150 sampled points, 65,536 paths per point; the
@@ -44,6 +49,7 @@
 #include <vector>
 
 #include "bench_statistics.h"
+#include "degenerate_rooms.h"
 #include "penumbra/base/parallel_for.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/path_traced_reference.h"
@@ -89,7 +95,10 @@ struct OpenPoint {
 };
 
 std::string cachePath(const std::string& scene, const Options& o) {
-  const std::size_t key = std::hash<std::string>{}(scene);
+  // The file's name and its contents: a scene edited under one name is sampled again.
+  std::ostringstream contents;
+  contents << std::ifstream(scene).rdbuf();
+  const std::size_t key = std::hash<std::string>{}(scene + '\n' + contents.str());
   std::ostringstream name;
   name << "radiosity_reference_sampled_" << std::hex << key << std::dec << "_" << o.points << "_"
        << o.paths << ".txt";
@@ -352,6 +361,8 @@ std::vector<double> parseList(const std::string& text) {
 
 int main(int argc, char** argv) {
   Options o;
+  std::string rooms;  // --degenerate-rooms A:B
+  bool insideOut = false, moving = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto next = [&]() -> std::string {
@@ -393,8 +404,27 @@ int main(int argc, char** argv) {
       o.worst = std::stoi(next());
     else if (arg == "--by-polygon")
       o.byPolygon = true;
+    else if (arg == "--degenerate-rooms")
+      rooms = next();
+    else if (arg == "--inside-out")
+      insideOut = true;
+    else if (arg == "--moving")
+      moving = true;
     else
       o.scenes.push_back(arg);
+  }
+  if (!rooms.empty()) {
+    // Written to the working folder (the reference cache's key is the file), named by seed.
+    const size_t colon = rooms.find(':');
+    const int first = std::stoi(rooms.substr(0, colon)),
+              last = colon == std::string::npos ? first : std::stoi(rooms.substr(colon + 1));
+    for (int seed = first; seed <= last; ++seed) {
+      const std::string name = "degenerate-room-" + std::to_string(seed) +
+                               (insideOut ? "-inside-out" : "") + (moving ? "-moving" : "") +
+                               ".json";
+      std::ofstream(name) << bench::degenerateRoomJson(std::uint64_t(seed), insideOut, moving);
+      o.scenes.push_back(name);
+    }
   }
   if (o.scenes.empty())
     o.scenes.push_back(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json");
