@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <numbers>
 
 #include "penumbra/base/input_error.h"
@@ -628,6 +629,42 @@ TEST(RadiositySolver, AnInsideOutBoxOnTheFloorStaysDark) {
   // The rug reflects 0.2 of what it receives (the floor under it would reflect 0.9).
   EXPECT_NEAR(onTheRug->radiosity.average(), 0.2 * onTheRug->total().average(),
               1e-3 * onTheRug->total().average());
+}
+
+// A two-sided card (two polygons back to back) standing under a lamp, against the same room with
+// a 0.1 mm thick box in its place (the path tracer agrees with that one: docs/radiosity.md, session
+// 32). The card's sides counted as polygons in face-to-face contact, covering each other (each
+// read what the other reflects); given them as no contact while still exchanging all their light
+// where they overlap (contacts do), refinement ran past its budget. Now each side is lit from its
+// own side alone.
+TEST(RadiositySolver, BothSidesOfATwoSidedCardAreLit) {
+  const auto solve = [](bool card) {
+    test::SceneBuilder b;
+    b.addMaterial("wall", Rgb::gray(0.6)).addMaterial("lamp", Rgb::gray(0), Rgb::gray(10));
+    test::addRoom(b, "wall", {0, 0, 0}, {2, 2, 2});
+    b.addPolygon("lamp",
+                 {{0.2, 1.999, 0.2}, {0.7, 1.999, 0.2}, {0.7, 1.999, 0.7}, {0.2, 1.999, 0.7}},
+                 "lamp");
+    if (card) {
+      const Polygon3 side{{1, 0.5, 0.5}, {1, 1.5, 0.5}, {1, 1.5, 1.5}, {1, 0.5, 1.5}};
+      b.addPolygon("wall", side, "card");
+      b.addPolygon("wall", {side[3], side[2], side[1], side[0]}, "card");
+    } else {
+      test::addBox(b, "wall", "slab", {1, 0.5, 0.5}, {1.0001, 1.5, 1.5});
+    }
+    auto solver = std::make_unique<RadiositySolver>(withTolerance(3e-3));
+    solver->build(b.pose());
+    return solver;
+  };
+  const auto card = solve(true), slab = solve(false);
+  for (const Vec3& p : {Vec3{1, 1, 1}, Vec3{1, 0.7, 1.3}})
+    for (const Vec3& n : {Vec3{1, 0, 0}, Vec3{-1, 0, 0}}) {
+      const Vec3 onSlab = n.x > 0 ? p + Vec3{0.0001, 0, 0} : p;
+      const double e = card->irradiance(p, n).average(), s = slab->irradiance(onSlab, n).average();
+      std::printf("(%.1f %.1f %.1f) facing %+.0f: card %.4f, slab %.4f\n", p.x, p.y, p.z, n.x, e,
+                  s);
+      EXPECT_NEAR(e, s, 0.03 * s);
+    }
 }
 
 }  // namespace

@@ -133,7 +133,7 @@ bool isSheet(const PosedScene& scene, const std::vector<std::vector<PolygonId>>&
 
 }  // namespace
 
-std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene, SheetSides sheets) {
+std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene) {
   std::vector<std::vector<PolygonId>> covering(scene.polygons.size()), objectPolygons;
   for (const WorldPolygon& p : scene.polygons) {
     if (objectPolygons.size() <= size_t(p.objectIndex)) objectPolygons.resize(p.objectIndex + 1);
@@ -141,7 +141,7 @@ std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene, Sh
   }
   forEachCoplanarPair(scene, [&](const WorldPolygon& a, const WorldPolygon& b, bool facing) {
     if (facing) {
-      if (sheets == SheetSides::kExposed && isSheet(scene, objectPolygons, a, b)) return;
+      if (isSheet(scene, objectPolygons, a, b)) return;  // both sides exposed
       covering[a.id].push_back(b.id);
       covering[b.id].push_back(a.id);
     } else if (a.isLight && !b.isLight) {

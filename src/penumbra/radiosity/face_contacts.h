@@ -11,17 +11,12 @@
 
 namespace penumbra {
 
-// What a solver makes of two polygons back to back with open space on both sides, the two sides of
-// a sheet (a two-sided card; told apart from solids in contact by rays against the two polygons'
-// objects): exposed, or covering each other as polygons in contact do (the hierarchical solver,
-// which lets polygons in contact exchange all their light where they overlap: a sheet's sides
-// doing so sent its refinement past its budget).
-enum class SheetSides { kCoverEachOther, kExposed };
-
 // For each polygon, the polygons that may cover part of it (within 1e-9 of the scene's size of
 // one plane, bounds overlapping; where a polygon is covered it neither receives nor sends light):
 //  - those in face-to-face contact with it, both ways (a box standing on the floor: the box's
-//    bottom and the floor cover each other), except a sheet's other side with kExposed;
+//    bottom and the floor cover each other), not the other side of a sheet (two polygons back to
+//    back with open space on both sides, a two-sided card; told apart from solids in contact by
+//    rays against the two polygons' objects);
 //  - those lying on it facing the same way that come later in the scene (a rug on a floor, a
 //    decal, a box's bottom on the floor with its faces turned inwards: the later lies on top),
 //    except that a light lies on top of a polygon that emits nothing, whichever comes first (a
@@ -30,7 +25,7 @@ enum class SheetSides { kCoverEachOther, kExposed };
 //    inside-out box standing on the floor) returned more light than reached it, and its radiosity
 //    grew without bound (1e5 times the room's, refinement past millions of links).
 // Taken as covering each other, both sides of a two-sided card received nothing.
-std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene, SheetSides sheets);
+std::vector<std::vector<PolygonId>> coveringPolygons(const PosedScene& scene);
 
 // Of polygons lying on one another facing the same way, the one on top at a point: from
 // `polygon` (where a locator found the point), the covering polygon facing its way for which

@@ -365,8 +365,9 @@ void RadiositySolver::splitRemainder(const Element& leaf, const std::array<Vec3,
         const Vec3 origin = cellElement.samplePoint(u, v);
         if (!partners.empty() && isCovered(leaf.polygon, origin)) continue;
         // Polygons within the caster's epsilon of the origin are not met: a duplicate of the leaf's
-        // own polygon (a double-modelled face) would be met at t = 0, from behind.
-        const auto hit = rays_->intersect(origin, d, rays_->epsilon(),
+        // own polygon (a double-modelled face) would be met at t = 0, from behind. Of a two-sided
+        // card, the side facing the ray is met.
+        const auto hit = firstSurfaceSeen(*rays_, scene_, origin, d, rays_->epsilon(),
                                           std::numeric_limits<double>::infinity(), leaf.polygon);
         if (!hit) {
           ++gather.misses;
@@ -629,7 +630,7 @@ Rgb RadiositySolver::reflectedAlong(int leaf, const Vec3& point, PolygonId polyg
   if (!direct) return exposedReflected_[size_t(leaf)];
   const Vec3 d = cosineDirection(normal, a, turn);
   Rgb indirect;
-  const auto hit = rays_->intersect(point, d, rays_->epsilon(),
+  const auto hit = firstSurfaceSeen(*rays_, scene_, point, d, rays_->epsilon(),
                                     std::numeric_limits<double>::infinity(), polygon);
   // A back face (a seam the ray slipped into, or the inside of something) sends nothing.
   if (hit && dot(scene_.polygons[hit->polygon].plane.normal, d) < 0) {

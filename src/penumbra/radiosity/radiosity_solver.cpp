@@ -107,7 +107,7 @@ void RadiositySolver::compute() {
   const auto start = std::chrono::steady_clock::now();
   visibleParts_ = std::make_unique<ExactReference>(scene_, grid_);
   elements_ = rootElements(scene_, polygonRoots_);
-  contacts_ = coveringPolygons(scene_, SheetSides::kCoverEachOther);
+  contacts_ = coveringPolygons(scene_);
   CHECK(!elements_.empty());
   ClusterHierarchy hierarchy = buildClusterHierarchy(elements_);
   rootOrder_ = std::move(hierarchy.rootOrder);
@@ -230,11 +230,13 @@ std::vector<NodeRef> RadiositySolver::split(NodeRef n) {
           {NodeRef::kElement, first + 3}};
 }
 
-bool RadiositySolver::isBehind(NodeRef n, const Plane& plane) const {
-  // Relative slack so that a polygon touching the plane (a wall meeting the floor) counts as
-  // behind it: it can exchange no energy with the plane's front side. Except what lies in the
-  // plane facing back at it: surfaces in contact face to face exchange all their energy where
-  // they overlap (the limit as the gap closes), so such a node is not behind.
+bool RadiositySolver::isBehind(NodeRef n, const Element& element) const {
+  // Relative slack so that a polygon touching the element's plane (a wall meeting the floor)
+  // counts as behind it: it can exchange no energy with the plane's front side. Except what lies
+  // in the plane facing back at it in contact (coveringPolygons): surfaces in contact face to face
+  // exchange all their energy where they overlap (the limit as the gap closes), so such a node is
+  // not behind. The other side of a sheet (a two-sided card) is: it faces away.
+  const Plane plane = Plane::fromPointNormal(element.vertices[0], element.normal);
   const double slack = 1e-9 * std::max(1.0, scene_.extent.diagonalLength());
   bool inPlane = true;
   if (n.isCluster()) {
@@ -255,7 +257,9 @@ bool RadiositySolver::isBehind(NodeRef n, const Plane& plane) const {
     if (d > slack) return false;
     inPlane = inPlane && d >= -slack;
   }
-  return !(inPlane && dot(e.normal, plane.normal) < -1 + 1e-9);
+  const std::vector<PolygonId>& partners = contacts_[element.polygon];
+  return !(inPlane && dot(e.normal, plane.normal) < -1 + 1e-9 &&
+           std::find(partners.begin(), partners.end(), e.polygon) != partners.end());
 }
 
 RadiositySolver::SurfacePoint RadiositySolver::samplePoint(NodeRef n, double u, double v,

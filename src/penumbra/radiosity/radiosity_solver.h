@@ -353,7 +353,7 @@ class RadiositySolver {
   // The error thrown when refinement would pass maxLinks or maxElements (`what`).
   InputError budgetExceeded(const char* what, long long limit) const;
   std::vector<NodeRef> split(NodeRef n);
-  bool isBehind(NodeRef n, const Plane& plane) const;
+  bool isBehind(NodeRef n, const Element& e) const;
   // Does an irradiance error over all of the receiver `n`, taken as at least referenceArea_
   // large, exceed the oracles' power threshold?
   bool exceedsTolerance(NodeRef n, double irradianceError) const;

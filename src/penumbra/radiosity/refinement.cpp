@@ -108,14 +108,8 @@ std::vector<int> RadiositySolver::replaceLinks(
       const bool bothElements = !a.isCluster() && !b.isCluster();
       if (bothElements && elements_[a.index].polygon == elements_[b.index].polygon) continue;
       // Nothing passes between a node entirely behind the other's element plane and that element.
-      if (!a.isCluster()) {
-        const Element& e = elements_[a.index];
-        if (isBehind(b, Plane::fromPointNormal(e.vertices[0], e.normal))) continue;
-      }
-      if (!b.isCluster()) {
-        const Element& e = elements_[b.index];
-        if (isBehind(a, Plane::fromPointNormal(e.vertices[0], e.normal))) continue;
-      }
+      if (!a.isCluster() && isBehind(b, elements_[a.index])) continue;
+      if (!b.isCluster() && isBehind(a, elements_[b.index])) continue;
       Candidate& c = candidates.emplace_back();
       c.parent = index;
       c.mustRefine = (a.isCluster() || b.isCluster()) && (a == b || bounds(a).overlaps(bounds(b)));

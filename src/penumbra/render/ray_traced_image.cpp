@@ -33,9 +33,8 @@ struct PinholeFrame {
 
 }  // namespace
 
-RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
-                               const RayCaster& rays, const ExactReference& reference,
-                               const RayTraceOptions& options) {
+RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera, const RayCaster& rays,
+                               const ExactReference& reference, const RayTraceOptions& options) {
   return renderRayTraced(
       scene, camera, rays,
       [&](const Vec3& p, const Vec3& n, PolygonId polygon, std::uint64_t) {
@@ -44,8 +43,8 @@ RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
       options);
 }
 
-RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
-                               const RayCaster& rays, const IrradianceAtHit& irradianceAt,
+RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera, const RayCaster& rays,
+                               const IrradianceAtHit& irradianceAt,
                                const RayTraceOptions& options) {
   const int w = options.width, h = options.height;
   RayTracedImage out{Image(w, h), Image(w, h)};
@@ -65,17 +64,19 @@ RayTracedImage renderRayTraced(const PosedScene& scene, const Camera& camera,
           sy = y + (s / strata % strata + jitter(rng)) / strata;
         }
         const Vec3 dir = frame.direction(sx, sy, w, h);
-        const auto hit = rays.intersect(frame.eye, dir, 0, std::numeric_limits<double>::infinity());
+        // Of a two-sided card, the side facing the eye.
+        const auto hit = firstSurfaceSeen(rays, scene, frame.eye, dir, 0,
+                                          std::numeric_limits<double>::infinity());
         if (!hit) continue;
         const WorldPolygon& polygon = scene.polygons[hit->polygon];
         if (dot(dir, polygon.plane.normal) >= 0) continue;  // back faces receive and emit nothing
         const Material& material = scene.materialOf(polygon);
         // Embree's hit point is single precision: put it back on the polygon's plane.
         const Vec3 p = polygon.plane.project(hit->point);
-        const Rgb e = irradianceAt(p, polygon.plane.normal, polygon.id,
-                                   (std::uint64_t(y) * std::uint64_t(w) + std::uint64_t(x)) *
-                                           std::uint64_t(spp) +
-                                       std::uint64_t(s));
+        const Rgb e = irradianceAt(
+            p, polygon.plane.normal, polygon.id,
+            (std::uint64_t(y) * std::uint64_t(w) + std::uint64_t(x)) * std::uint64_t(spp) +
+                std::uint64_t(s));
         irradiance += e;
         radiance += (material.reflectance * e + material.emission) / std::numbers::pi;
       }

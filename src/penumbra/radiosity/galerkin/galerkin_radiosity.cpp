@@ -74,7 +74,7 @@ void GalerkinRadiosity::build(const DynamicScene& scene) {
 
   const std::vector<Element> roots = rootElements(scene_, polygonRoots_);
   CHECK(!roots.empty());
-  contacts_ = coveringPolygons(scene_, SheetSides::kExposed);
+  contacts_ = coveringPolygons(scene_);
   double totalArea = 0, emittedPower = 0;
   elements_.reserve(roots.size() * 4);
   for (const Element& root : roots) {

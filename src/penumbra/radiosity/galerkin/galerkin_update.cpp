@@ -173,7 +173,7 @@ std::optional<GalerkinRadiosity::Move> GalerkinRadiosity::prepareMove(
     move.boxes.push_back(m.boundsBefore.expanded(margin));
     move.boxes.push_back(m.boundsAfter.expanded(margin));
   }
-  std::vector<std::vector<PolygonId>> contacts = coveringPolygons(scene_, SheetSides::kExposed);
+  std::vector<std::vector<PolygonId>> contacts = coveringPolygons(scene_);
   for (PolygonId p = 0; p < PolygonId(contacts.size()); ++p) {
     // A cover changes with the polygons in contact, or with one of them moving.
     const bool everywhere = move.movedPolygon[p] || contacts[p] != contacts_[p];

@@ -41,7 +41,7 @@ std::string GalerkinRadiosity::verifyLinks() const {
                " is not where the polygon is";
     }
   }
-  if (coveringPolygons(scene_, SheetSides::kExposed) != contacts_)
+  if (coveringPolygons(scene_) != contacts_)
     return "the stored covering polygons are not the scene's";
   for (size_t i = 0; i < elements_.size(); ++i) {
     const GElement& e = elements_[i];
