@@ -68,13 +68,17 @@ std::optional<Vec3> commonPoint(const WorldPolygon& a, const WorldPolygon& b) {
   return std::nullopt;
 }
 
-// Where a ray from `from` along unit `d` first meets a polygon: its distance, or nothing.
-std::optional<double> rayMeets(const WorldPolygon& polygon, const Vec3& from, const Vec3& d) {
+// Where a ray from `from` along unit `d` meets a polygon: its distance, or nothing. The crossing
+// with the polygon's plane is tested against its bounds first (`slack` wide), its outline only
+// within them: most polygons a ray passes are rejected there.
+std::optional<double> rayMeets(const WorldPolygon& polygon, const Vec3& from, const Vec3& d,
+                               double slack) {
   const double along = dot(polygon.plane.normal, d);
   if (along == 0) return std::nullopt;
   const double t = -polygon.plane.signedDistance(from) / along;
   if (!(t > 0)) return std::nullopt;
   const Vec3 x = from + d * t;
+  if (!polygon.bounds.expanded(slack).contains(x)) return std::nullopt;
   const PlaneFrame frame = PlaneFrame::fromPlane(polygon.plane, polygon.vertices[0]);
   Polygon2 loop;
   for (const Vec3& v : polygon.vertices) loop.push_back(frame.toLocal(v));
@@ -88,18 +92,28 @@ std::optional<double> rayMeets(const WorldPolygon& polygon, const Vec3& from, co
 // them, a ray meets the solid's other faces from behind. Objects are not always closed on their
 // own (a chair's leg is open where it meets the seat: straight up, a ray leaves it), so nine rays
 // fan out over each side: a sheet has open space on both, every ray meeting a front face or
-// nothing. The rays meet only the two polygons' own objects (`objectPolygons`): the answer is
-// theirs, and no other object moving by changes it (an update relies on a cover changing only
-// where a polygon in contact moved).
+// nothing (within their reach). The rays meet only the two polygons' own objects
+// (`objectPolygons`): the answer is theirs, and no other object moving by changes it (an update
+// relies on a cover changing only where a polygon in contact moved).
 bool isSheet(const PosedScene& scene, const std::vector<std::vector<PolygonId>>& objectPolygons,
              const WorldPolygon& a, const WorldPolygon& b) {
   const std::optional<Vec3> q = commonPoint(a, b);
   if (!q) return false;
   const double tolerance = 1e-9 * std::max(1.0, scene.extent.diagonalLength());
   const double step = 1e3 * tolerance;
-  std::vector<PolygonId> candidates = objectPolygons[size_t(a.objectIndex)];
-  if (b.objectIndex != a.objectIndex)
-    for (PolygonId p : objectPolygons[size_t(b.objectIndex)]) candidates.push_back(p);
+  // The rays reach four times the smaller polygon's size: a solid lying on it has its sides
+  // within that of the fan's slanted rays. Only the polygons within reach are tested, so that the
+  // cost is not the objects' size for every pair (a mesh of thousands of two-sided cards).
+  const double reach = 4 * std::min(diameter(a.vertices), diameter(b.vertices));
+  const Box3 around{*q - Vec3{reach, reach, reach}, *q + Vec3{reach, reach, reach}};
+  std::vector<PolygonId> candidates;
+  const auto collect = [&](int object) {
+    for (PolygonId p : objectPolygons[size_t(object)])
+      if (p != a.id && p != b.id && scene.polygons[size_t(p)].bounds.overlaps(around))
+        candidates.push_back(p);
+  };
+  collect(a.objectIndex);
+  if (b.objectIndex != a.objectIndex) collect(b.objectIndex);
   bool decided = false;  // some ray saw open space (a front face or nothing) without doubt
   for (const WorldPolygon* side : {&a, &b}) {
     const PlaneFrame frame = PlaneFrame::fromPlane(side->plane, *q);
@@ -111,8 +125,8 @@ bool isSheet(const PosedScene& scene, const std::vector<std::vector<PolygonId>>&
       double nearest = std::numeric_limits<double>::infinity();
       std::vector<std::pair<double, PolygonId>> met;
       for (PolygonId p : candidates) {
-        if (p == a.id || p == b.id) continue;
-        if (const auto t = rayMeets(scene.polygons[size_t(p)], from, d)) {
+        const auto t = rayMeets(scene.polygons[size_t(p)], from, d, tolerance);
+        if (t && *t <= reach) {
           met.push_back({*t, p});
           nearest = std::min(nearest, *t);
         }
