@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "polygon_json.h"
+
 namespace penumbra::bench {
 
 inline std::string degenerateRoomJson(std::uint64_t seed, bool insideOut, bool moving) {
@@ -25,20 +27,7 @@ inline std::string degenerateRoomJson(std::uint64_t seed, bool insideOut, bool m
     return std::uniform_real_distribution<double>(lo, hi)(rng);
   };
   const auto dyadic = [&](double lo, double hi) { return std::round(uniform(lo, hi) * 8) / 8; };
-  using Corners = std::vector<std::array<double, 3>>;
-  const auto text = [](const Corners& corners) {
-    std::ostringstream out;
-    out.precision(17);
-    out << '[';
-    for (size_t i = 0; i < corners.size(); ++i)
-      out << (i ? "," : "") << '[' << corners[i][0] << ',' << corners[i][1] << ',' << corners[i][2]
-          << ']';
-    return out.str() + ']';
-  };
-  const auto reversed = [](Corners c) {
-    std::reverse(c.begin(), c.end());
-    return c;
-  };
+  const auto text = [](const Corners& corners) { return cornersJson(corners, 17); };
   // The faces of a box, outward.
   const auto box = [](double x, double y, double z, double a, double b, double c) {
     std::vector<Corners> faces{

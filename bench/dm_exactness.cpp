@@ -46,6 +46,7 @@
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/uniform_grid.h"
 #include "penumbra_points.h"
+#include "polygon_json.h"
 
 using namespace penumbra;
 
@@ -116,19 +117,9 @@ std::string degenerateCardsJson(std::uint64_t seed) {
     return std::uniform_real_distribution<double>(lo, hi)(rng);
   };
   const auto dyadic = [&](double lo, double hi) { return std::round(uniform(lo, hi) * 8) / 8; };
-  using Corners = std::vector<std::array<double, 3>>;
-  const auto text = [](const Corners& corners) {
-    std::ostringstream out;
-    out << '[';
-    for (size_t i = 0; i < corners.size(); ++i)
-      out << (i ? "," : "") << '[' << corners[i][0] << ',' << corners[i][1] << ',' << corners[i][2]
-          << ']';
-    return out.str() + ']';
-  };
-  const auto reversed = [](Corners c) {
-    std::reverse(c.begin(), c.end());
-    return c;
-  };
+  using bench::Corners;
+  using bench::reversed;
+  const auto text = [](const Corners& corners) { return bench::cornersJson(corners); };
   std::ostringstream json;
   json << kSmallLampOverFloor;
   const int count = 1 + int(rng() % 4);
