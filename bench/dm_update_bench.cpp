@@ -100,6 +100,15 @@ void benchScene(const std::string& name, const Scene& scene) {
   }
 }
 
+// Moves the live scene to `frame` and updates the engine: the processor time it took.
+double updateTo(DynamicScene& live, DiscontinuityMeshEngine& engine, int frame) {
+  const SceneChange change = live.changeToFrame(frame);
+  const double cpu = cpuSeconds();
+  live.apply(change);
+  engine.update(live, change);
+  return cpuSeconds() - cpu;
+}
+
 // A generated room (seed 1), loaded as the CLI loads a file: the loader reads scenes from paths.
 Scene generatedRoom(int polygons, int frames) {
   SceneGeneratorOptions generator;
@@ -118,18 +127,14 @@ double scaleStep(int polygons) {
   const Scene scene = generatedRoom(polygons, 4);
   DynamicScene live(scene, 0);
   DiscontinuityMeshEngine engine;
-  double cpu = cpuSeconds();
+  const double cpu = cpuSeconds();
   engine.build(live);
   std::printf(
       "generated %d-polygon room: built in %.1f s (processor), %lld faces on %d receivers\n",
       polygons, cpuSeconds() - cpu, engine.stats().meshFaces, scene.polygonCount());
   std::vector<double> steps;
   for (int frame = 1; frame < scene.frames; ++frame) {
-    const SceneChange change = live.changeToFrame(frame);
-    cpu = cpuSeconds();
-    live.apply(change);
-    engine.update(live, change);
-    steps.push_back(cpuSeconds() - cpu);
+    steps.push_back(updateTo(live, engine, frame));
     const DmStats s = engine.stats();
     std::printf(
         "  frame %d: update %.3f s; %lld meshes edited or built anew, %lld faces recomputed; "
@@ -156,11 +161,7 @@ void updateSteps(const std::string& name, int steps) {
   for (int i = 0; i < steps; ++i) {
     if (frame + direction < 0 || frame + direction >= scene.frames) direction = -direction;
     frame += direction;
-    const SceneChange change = live.changeToFrame(frame);
-    const double cpu = cpuSeconds();
-    live.apply(change);
-    engine.update(live, change);
-    step.push_back(cpuSeconds() - cpu);
+    step.push_back(updateTo(live, engine, frame));
     const DmStats s = engine.stats();
     meshing.push_back(s.secondsMeshing);
     eee.push_back(s.secondsEee);
