@@ -361,10 +361,12 @@ struct ReceiverMesh::Impl {
     do cycle.push_back(c);
     while (++c != first);
     const size_t n = cycle.size();
-    const auto key = [&](size_t i) {
-      const Vec2 q = localOf(cycle[i % n]->source());
-      return std::pair{q.x, q.y};
-    };
+    std::vector<std::pair<double, double>> keys(n);
+    for (size_t i = 0; i < n; ++i) {
+      const Vec2 q = localOf(cycle[i]->source());
+      keys[i] = {q.x, q.y};
+    }
+    const auto key = [&](size_t i) { return keys[i % n]; };
     size_t best = 0;
     for (size_t start = 1; start < n; ++start) {
       if (key(start) > key(best)) continue;
@@ -783,7 +785,9 @@ std::vector<Piece> ReceiverMesh::Impl::piecesOf(const std::vector<DiscontinuityS
   std::vector<Piece> pieces;
   std::vector<const DiscontinuitySegment*> sources;  // the segment each piece comes from
   pieces.reserve(segments.size());
-  std::map<std::array<double, 3>, int> ends;
+  // Every piece's ends, sorted: a piece is joined where another one ends at the same point (a
+  // sorted list rather than a map of counts, which allocated a node per end on every update).
+  std::vector<std::array<double, 3>> ends;
   const auto key = [](const Vec3& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
   for (const DiscontinuitySegment& s : segments) {
     const Point a = toPoint(s.p0), b = toPoint(s.p1);
@@ -792,13 +796,18 @@ std::vector<Piece> ReceiverMesh::Impl::piecesOf(const std::vector<DiscontinuityS
     pieces.back().source.own = {s.p0.x, s.p0.y, s.p0.z, s.p1.x, s.p1.y, s.p1.z};
     sources.push_back(&s);
     if (snapTolerance > 0) {
-      ++ends[key(s.p0)];
-      ++ends[key(s.p1)];
+      ends.push_back(key(s.p0));
+      ends.push_back(key(s.p1));
     }
   }
   if (snapTolerance > 0) {
+    std::sort(ends.begin(), ends.end());
+    const auto shared = [&](const Vec3& p) {
+      const auto [from, to] = std::equal_range(ends.begin(), ends.end(), key(p));
+      return to - from > 1;
+    };
     for (size_t k = 0; k < pieces.size(); ++k)
-      pieces[k].isJoined = ends[key(sources[k]->p0)] > 1 || ends[key(sources[k]->p1)] > 1;
+      pieces[k].isJoined = shared(sources[k]->p0) || shared(sources[k]->p1);
     for (size_t k = 0; k < boundary.size(); ++k) {
       pieces.push_back({boundary[k].source(), boundary[k].target(), kBoundary, true, false, {}});
       pieces.back().source.own = boundarySources[k];
@@ -839,37 +848,90 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   std::vector<Piece> now = m.piecesOf(segments, snapTolerance);
   // Each surface's pieces by source, before and now; a surface now whose pieces are those of one
   // before (a surface's id is its position in the frame's list, which moves) takes its edges.
-  using Group = std::vector<PieceSource>;
-  const auto groupsOf = [](const std::vector<Piece>& pieces) {
-    std::map<SurfaceId, Group> groups;
-    for (const Piece& p : pieces) groups[p.surface].push_back(p.source);
-    for (auto& [id, group] : groups) std::sort(group.begin(), group.end());
+  // The groups are runs of one flat sorted list, matched by hash (maps of vectors allocated per
+  // surface, compared element by element, cost a tenth of an edit on receivers of thousands of
+  // pieces).
+  struct Group {
+    SurfaceId surface;
+    size_t from, to;  // its run in the list
+    size_t hash;      // of its sources, equal for equal groups
+  };
+  using Member = std::pair<SurfaceId, const PieceSource*>;
+  const auto groupsOf = [](const std::vector<Piece>& pieces, std::vector<Member>& members) {
+    members.clear();
+    members.reserve(pieces.size());
+    for (const Piece& p : pieces) members.push_back({p.surface, &p.source});
+    std::sort(members.begin(), members.end(), [](const Member& x, const Member& y) {
+      return x.first != y.first ? x.first < y.first : *x.second < *y.second;
+    });
+    // Zeros of either sign compare equal: they hash alike.
+    const auto hashOf = [](double x) { return x == 0 ? size_t(0) : std::hash<double>{}(x); };
+    std::vector<Group> groups;
+    for (size_t i = 0; i < members.size();) {
+      Group g{members[i].first, i, i, 0};
+      for (; i < members.size() && members[i].first == g.surface; ++i) {
+        const PieceSource& q = *members[i].second;
+        for (const auto* values : {&q.own, &q.line})
+          for (double x : *values) g.hash = g.hash * 1000003u ^ hashOf(x);
+        g.hash = g.hash * 31u + (q.snapped ? 1u : 0u);
+      }
+      g.to = i;
+      groups.push_back(g);
+    }
     return groups;
   };
-  const std::map<SurfaceId, Group> before = groupsOf(m.pieces), after = groupsOf(now);
-  std::map<Group, std::vector<SurfaceId>> beforeByGroup;
-  for (const auto& [id, group] : before) beforeByGroup[group].push_back(id);
+  std::vector<Member> beforeMembers, afterMembers;
+  const std::vector<Group> before = groupsOf(m.pieces, beforeMembers);
+  const std::vector<Group> after = groupsOf(now, afterMembers);
+  const auto sameGroup = [&](const Group& x, const Group& y) {
+    return x.hash == y.hash && x.to - x.from == y.to - y.from &&
+           std::equal(beforeMembers.begin() + std::ptrdiff_t(x.from),
+                      beforeMembers.begin() + std::ptrdiff_t(x.to),
+                      afterMembers.begin() + std::ptrdiff_t(y.from),
+                      [](const Member& a, const Member& b) { return *a.second == *b.second; });
+  };
+  // The groups before by hash, then surface: a surface now takes, among the groups before equal
+  // to its own and not yet taken, the one of the highest surface id.
+  std::vector<size_t> byHash(before.size());
+  for (size_t k = 0; k < before.size(); ++k) byHash[k] = k;
+  std::sort(byHash.begin(), byHash.end(), [&](size_t x, size_t y) {
+    return before[x].hash != before[y].hash ? before[x].hash < before[y].hash
+                                            : before[x].surface < before[y].surface;
+  });
+  std::vector<char> taken(before.size(), 0);
   std::map<SurfaceId, SurfaceId> renamed;  // before → now
   std::set<SurfaceId> removed, added;
-  for (const auto& [id, group] : before) removed.insert(id);
-  for (const auto& [id, group] : after) {
-    auto it = beforeByGroup.find(group);
-    if (it == beforeByGroup.end() || it->second.empty()) {
-      added.insert(id);
+  size_t changedPieces = 0;
+  for (const Group& g : after) {
+    const auto first = std::lower_bound(byHash.begin(), byHash.end(), g.hash,
+                                        [&](size_t k, size_t h) { return before[k].hash < h; });
+    auto last = first;
+    while (last != byHash.end() && before[*last].hash == g.hash) ++last;
+    std::optional<size_t> match;
+    for (auto it = last; it != first;) {
+      --it;
+      if (!taken[*it] && sameGroup(before[*it], g)) {
+        match = *it;
+        break;
+      }
+    }
+    if (!match) {
+      added.insert(g.surface);
+      changedPieces += g.to - g.from;
       continue;
     }
-    const SurfaceId old = it->second.back();
-    it->second.pop_back();
-    removed.erase(old);
-    if (old != id) renamed.emplace(old, id);
+    taken[*match] = 1;
+    if (before[*match].surface != g.surface) renamed.emplace(before[*match].surface, g.surface);
   }
+  for (size_t k = 0; k < before.size(); ++k)
+    if (!taken[k]) {
+      removed.insert(before[k].surface);
+      changedPieces += before[k].to - before[k].from;
+    }
   if (stats) *stats = {int(removed.size()), int(added.size()), false};
 
   // When most of the pieces change, one sweep over all of them is cheaper than editing: the mesh
   // is built again, and its faces recognised among the former ones by their exact boundaries.
-  size_t changedPieces = 0;
-  for (SurfaceId id : removed) changedPieces += before.at(id).size();
-  for (SurfaceId id : added) changedPieces += after.at(id).size();
   if (changedPieces > now.size()) {
     if (stats) stats->rebuilt = true;
     m.rememberFaces(m.faceHandles);
@@ -1229,8 +1291,8 @@ size_t ReceiverMesh::memoryBytes() const {
   const auto& a = impl_->arrangement;
   // What an update reads besides: the pieces and each vertex's data.
   const size_t updateData =
-      impl_->pieces.capacity() * sizeof(Piece) + impl_->vertices.size() * (sizeof(VertexData) + 32);
-  return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 120 +
+      impl_->pieces.capacity() * sizeof(Piece) + a.number_of_vertices() * sizeof(VertexData);
+  return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 128 +
          a.number_of_faces() * 64 + impl_->faces.capacity() * sizeof(MeshFace) + updateData;
 }
 
