@@ -337,13 +337,17 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
   // of the inset points towards the sample that lies strictly inside the face (a function of its
   // geometry) and away from EEE polylines: the same where the polylines near every inset point
   // are the same. Every test below is on the set of inset points, in any order.
-  std::vector<Vec3> insets;
+  const std::vector<Polygon3> boundary = now.mesh.faceBoundary(face.index);
   Box3 bounds;
-  for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
-    for (size_t i = 0; i < cycle.size(); ++i) {
+  for (const Polygon3& cycle : boundary)
+    for (const Vec3& corner : cycle) bounds.extend(corner);
+  // The inset points lie in the face, so in its box: where the polylines are the same and
+  // nothing moved through that box and the lights (below), none of them is needed.
+  if (sameEee && !isCrossed(bounds, change)) return true;
+  std::vector<Vec3> insets;
+  for (const Polygon3& cycle : boundary)
+    for (size_t i = 0; i < cycle.size(); ++i)
       for (const Vec3& p : probeCandidates(cycle, i, face.samplePoint)) insets.push_back(p);
-      bounds.extend(cycle[i]);
-    }
   if (!sameEee) {
     // Whether a point is near a polyline changes only where a polyline that changed (one of
     // `eeeChanged`, the polylines of either frame missing from the other) is near it.
@@ -866,7 +870,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       }
     }
     const auto backprojecting = Clock::now();
-    computeFaceBackprojections(receiver.id, data, sliver, [&](int face) -> const FaceData* {
+    computeFaceBackprojections(receiver.id, data, sliver, [&](int face) -> FaceData* {
       return reusable[face] >= 0 ? &oldFaceData[reusable[face]] : nullptr;
     });
     backprojectionSeconds += secondsSince(backprojecting);
@@ -935,7 +939,7 @@ void DiscontinuityMeshEngine::tallyReceivers() {
 
 void DiscontinuityMeshEngine::computeFaceBackprojections(
     PolygonId receiverId, ReceiverData& data, double sliver,
-    const std::function<const FaceData*(int)>& reuse) {
+    const std::function<FaceData*(int)>& reuse) {
   const PosedScene& scene = *posed_;
   const Vec3& normal = scene.polygons[receiverId].plane.normal;
   const std::vector<MeshFace>& faces = data.mesh.faces();
@@ -1058,8 +1062,8 @@ void DiscontinuityMeshEngine::computeFaceBackprojections(
     queue.assign(1, int(seed));
     for (size_t next = 0; next < queue.size(); ++next) {
       const int f = queue[next];
-      if (const FaceData* kept = reuse ? reuse(f) : nullptr) {
-        data.faces[f] = *kept;
+      if (FaceData* kept = reuse ? reuse(f) : nullptr) {
+        data.faces[f] = std::move(*kept);  // each face of the frame before is taken once
       } else {
         computeFace(f);
       }

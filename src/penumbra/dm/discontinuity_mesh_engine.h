@@ -319,9 +319,9 @@ class DiscontinuityMeshEngine {
                            std::vector<int>* compared = nullptr) const;
   // Backprojections of every face of one receiver, each from scratch or propagated from a
   // verified neighbour (DmOptions::propagateBackprojections), and face verification; a face for
-  // which `reuse` gives data (an update's unchanged face) takes that instead.
+  // which `reuse` gives data (an update's unchanged face) takes it over (moved out).
   void computeFaceBackprojections(PolygonId receiver, ReceiverData& data, double sliver,
-                                  const std::function<const FaceData*(int)>& reuse = {});
+                                  const std::function<FaceData*(int)>& reuse = {});
   Rgb atPoint(const Vec3& p, const Vec3& n, PolygonId receiver) const;
   // Twice the EEE chord tolerance: closer than this to a polyline, answers are computed at the
   // point.

@@ -294,14 +294,6 @@ struct ReceiverMesh::Impl {
     std::vector<std::vector<Point>> cycles;
   };
   std::vector<FormerFace> former;
-  std::vector<std::vector<Point>> exactCycles(Arrangement::Face_const_handle f) const {
-    std::vector<std::vector<Point>> out;
-    for (const Cycle& cycle : cyclesOf(f)) {
-      out.emplace_back();
-      for (auto h : cycle) out.back().push_back(h->source()->point());
-    }
-    return out;
-  }
   // Remembers the inside faces among `faceList` as former faces (replacing those remembered).
   template <typename Faces>
   void rememberFaces(const Faces& faceList) {
@@ -396,6 +388,19 @@ struct ReceiverMesh::Impl {
     return cycles;
   }
 
+  // The exact points of `cycles` (a face's cyclesOf).
+  static std::vector<std::vector<Point>> exactCycles(const std::vector<Cycle>& cycles) {
+    std::vector<std::vector<Point>> out;
+    for (const Cycle& cycle : cycles) {
+      out.emplace_back();
+      for (auto h : cycle) out.back().push_back(h->source()->point());
+    }
+    return out;
+  }
+  std::vector<std::vector<Point>> exactCycles(Arrangement::Face_const_handle f) const {
+    return exactCycles(cyclesOf(f));
+  }
+
   // Does q lie strictly inside face f (not on its boundary), decided by exact predicates on f's
   // boundary alone (crossing parity of a ray to the right, half-open in y)? Point location would
   // answer the same in principle; measured, CGAL's landmarks answered differently for a point
@@ -440,11 +445,13 @@ struct ReceiverMesh::Impl {
   // label the big face with a neighbour's backprojection. Slab and interval are chosen in
   // floating point; the point too where the exact test finds it strictly inside (else it is
   // constructed exactly). Returned in world coordinates, as samples are used.
-  std::optional<Vec3> interiorPoint(Arrangement::Face_const_handle f) const {
+  // `cycles` are f's (cyclesOf).
+  std::optional<Vec3> interiorPoint(Arrangement::Face_const_handle f,
+                                    const std::vector<Cycle>& cycles) const {
     // In canonical order, and every sort below stable or total: the point is a function of the
     // face's geometry alone.
     std::vector<Arrangement::Halfedge_const_handle> boundary;
-    for (const Cycle& cycle : cyclesOf(f))
+    for (const Cycle& cycle : cycles)
       for (auto h : cycle)
         if (h->twin()->face() != f) boundary.push_back(h);  // antennas bound nothing
     if (boundary.empty()) return std::nullopt;
@@ -570,7 +577,8 @@ struct ReceiverMesh::Impl {
         continue;
       }
       f->set_data(-1);
-      const auto inside = interiorPoint(f);
+      const std::vector<Cycle> cycles = cyclesOf(f);
+      const auto inside = interiorPoint(f, cycles);
       if (!inside) {  // too thin for a sample in doubles: located as its neighbours' boundary
         f->set_data(kTooThin);
         continue;
@@ -579,7 +587,7 @@ struct ReceiverMesh::Impl {
       if (!containsPoint(outline, frame.toLocal(sample))) continue;
       // Summed over the canonical cycles: floating-point sums depend on their order.
       double twiceArea = 0;
-      for (const Cycle& cycle : cyclesOf(f)) {
+      for (const Cycle& cycle : cycles) {
         double sum = 0;
         for (auto h : cycle) {
           const Vec2 a = localOf(h->source()), b = localOf(h->target());
@@ -591,7 +599,7 @@ struct ReceiverMesh::Impl {
       if (const auto was = formerBySample.find({sample.x, sample.y, sample.z});
           was != formerBySample.end()) {
         const FormerFace& face = former[was->second];
-        if (face.face.area == twiceArea / 2 && face.cycles == exactCycles(f))
+        if (face.face.area == twiceArea / 2 && face.cycles == exactCycles(cycles))
           previousIndex = face.face.index;
       }
       found.push_back({f, {sample, twiceArea / 2, previousIndex}});
