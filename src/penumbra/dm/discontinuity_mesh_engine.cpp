@@ -337,15 +337,13 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
   // of the inset points towards the sample that lies strictly inside the face (a function of its
   // geometry) and away from EEE polylines: the same where the polylines near every inset point
   // are the same. Every test below is on the set of inset points, in any order.
-  const std::vector<Polygon3> boundary = now.mesh.faceBoundary(face.index);
-  Box3 bounds;
-  for (const Polygon3& cycle : boundary)
-    for (const Vec3& corner : cycle) bounds.extend(corner);
-  // The inset points lie in the face, so in its box: where the polylines are the same and
-  // nothing moved through that box and the lights (below), none of them is needed.
+  Box3 bounds;  // of its corners (in any order: no canonical cycles needed)
+  for (const Vec3& corner : now.mesh.faceCorners(face.index)) bounds.extend(corner);
+  // Where the polylines are the same and nothing moved through that box and the lights (below),
+  // the inset points are not needed.
   if (sameEee && !isCrossed(bounds, change)) return true;
   std::vector<Vec3> insets;
-  for (const Polygon3& cycle : boundary)
+  for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
     for (size_t i = 0; i < cycle.size(); ++i)
       for (const Vec3& p : probeCandidates(cycle, i, face.samplePoint)) insets.push_back(p);
   if (!sameEee) {
