@@ -1299,8 +1299,8 @@ size_t ReceiverMesh::memoryBytes() const {
   const auto& a = impl_->arrangement;
   // What an update reads besides: the pieces and each vertex's data.
   const size_t updateData =
-      impl_->pieces.capacity() * sizeof(Piece) + a.number_of_vertices() * sizeof(VertexData);
-  return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 128 +
+      impl_->pieces.capacity() * sizeof(Piece) + impl_->vertices.size() * (sizeof(VertexData) + 32);
+  return sizeof(Impl) + a.number_of_vertices() * 96 + a.number_of_halfedges() * 120 +
          a.number_of_faces() * 64 + impl_->faces.capacity() * sizeof(MeshFace) + updateData;
 }
 
