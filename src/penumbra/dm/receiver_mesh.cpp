@@ -301,7 +301,7 @@ struct ReceiverMesh::Impl {
     for (Arrangement::Face_const_handle f : faceList) {
       if (f->data() < 0) continue;
       const MeshFace& face = faces[size_t(f->data())];
-      former.push_back({{face.samplePoint, face.area, face.index}, exactCycles(f)});
+      former.push_back({{face.samplePoint, face.area, face.index}, exactCycles(cyclesOf(f))});
     }
   }
   // The arrangement built from nothing in one sweep: `curves` and the receiver's outline (CGAL's
@@ -396,9 +396,6 @@ struct ReceiverMesh::Impl {
       for (auto h : cycle) out.back().push_back(h->source()->point());
     }
     return out;
-  }
-  std::vector<std::vector<Point>> exactCycles(Arrangement::Face_const_handle f) const {
-    return exactCycles(cyclesOf(f));
   }
 
   // Does q lie strictly inside face f (not on its boundary), decided by exact predicates on f's
