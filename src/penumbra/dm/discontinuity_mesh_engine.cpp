@@ -545,7 +545,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   std::vector<std::vector<DiscontinuitySegment>> previousVisible = std::move(visible_);
   visible_.clear();
   visible_.reserve(previousVisible.size());
-  std::map<PolygonId, std::vector<DiscontinuitySegment>> perReceiver;
+  // By receiver id (lists indexed by polygon, not maps: every visible segment of the scene is
+  // filed here every frame).
+  std::vector<std::vector<DiscontinuitySegment>> perReceiver(posed_->polygons.size());
   const auto addVisible = [&](const DiscontinuitySurface& s, size_t index) {
     std::vector<DiscontinuitySegment> pieces;
     const int then = index < previousIndex.size() ? previousIndex[index] : -1;
@@ -569,8 +571,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   start = Clock::now();
   eeeSurfaces_.clear();
   const double chord = kEeeChordTolerance * scene.extent.diagonalLength();
-  std::map<PolygonId, std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver;
-  std::map<PolygonId, std::vector<SurfaceId>> eeeSurfacesOnReceiver;  // of each of those
+  std::vector<std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver(scene.polygons.size());
+  std::vector<std::vector<SurfaceId>> eeeSurfacesOnReceiver(scene.polygons.size());  // of those
   std::vector<PolygonId> crossed;
   const auto eeeKeyOf = [&](const EeeSurface& surface) {
     EeeKey key;

@@ -99,16 +99,16 @@ using PolygonEntries = std::vector<std::pair<PolygonId, std::vector<Discontinuit
 // A memo's entries from the frame before without those of the moved polygons (`movedPolygons`,
 // ascending), merged in polygon order with `moved`, the moved polygons' entries examined again:
 // the entries a fresh examination of every polygon would give, where the unmoved ones share no
-// edge with a moved one.
-PolygonEntries mergedWithMoved(const PolygonEntries& kept, PolygonEntries moved,
+// edge with a moved one. The kept entries are moved out (each is read once, the frame after).
+PolygonEntries mergedWithMoved(PolygonEntries&& kept, PolygonEntries moved,
                                const std::vector<PolygonId>& movedPolygons) {
   PolygonEntries entries;
   size_t k = 0;
-  for (const auto& entry : kept) {
+  for (auto& entry : kept) {
     if (std::binary_search(movedPolygons.begin(), movedPolygons.end(), entry.first)) continue;
     for (; k < moved.size() && moved[k].first < entry.first; ++k)
       entries.push_back(std::move(moved[k]));
-    entries.push_back(entry);
+    entries.push_back(std::move(entry));
   }
   for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
   return entries;
@@ -249,7 +249,8 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
           examine(vi, id, moved.back().second);
           if (moved.back().second.empty()) moved.pop_back();
         }
-      entries = mergedWithMoved(reuse->before.byVertex[vi], std::move(moved), reuse->movedPolygons);
+      entries = mergedWithMoved(std::move(reuse->before.byVertex[vi]), std::move(moved),
+                                reuse->movedPolygons);
       if (memo) ++memo->keptVertices;
     } else {
       for (PolygonId id : grid.polygonsInBox(region)) {
@@ -476,7 +477,10 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   std::sort(unique.begin(), unique.end());
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
   std::vector<DiscontinuitySurface> surfaces;
-  std::vector<char> seen(adjacency.edges().size(), 0);
+  // The pair that last examined each edge (a stamp, not a flag cleared per pair: clearing a
+  // flag per edge of the scene for each of thousands of pairs was quadratic).
+  std::vector<int> seen(adjacency.edges().size(), -1);
+  int stamp = -1;
   if (memo) memo->pairs.clear();
   using Entries = PolygonEntries;
   for (const auto& pair : unique) {
@@ -521,8 +525,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     // The surfaces through the edges of polygon `id` not examined before for this pair.
     const auto examine = [&](PolygonId id, std::vector<DiscontinuitySurface>& out) {
       adjacency.forEachEdgeOf(id, [&](EdgeId edgeId) {
-        if (seen[size_t(edgeId)]) return;
-        seen[size_t(edgeId)] = 1;
+        if (seen[size_t(edgeId)] == stamp) return;
+        seen[size_t(edgeId)] = stamp;
         const SceneEdge& edge = adjacency.edges()[edgeId];
         if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) return;
         const Vec3 p = adjacency.position(edge.a), q = adjacency.position(edge.b);
@@ -565,12 +569,12 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       examine(id, entries.back().second);
       if (entries.back().second.empty()) entries.pop_back();
     };
-    std::fill(seen.begin(), seen.end(), 0);
+    ++stamp;
     Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
-    const CoplanarCrossingMemo::Pair* before = nullptr;
+    CoplanarCrossingMemo::Pair* before = nullptr;
     if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
         reuse->unchangedEdges[size_t(pair.second)]) {
-      const auto& kept = reuse->before.pairs;
+      auto& kept = reuse->before.pairs;
       const auto it = std::lower_bound(kept.begin(), kept.end(), pair,
                                        [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
                                          return std::pair(k.first, k.second) < p;
@@ -584,7 +588,7 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       Entries moved;
       for (PolygonId id : reuse->movedPolygons)
         if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
-      entries = mergedWithMoved(before->entries, std::move(moved), reuse->movedPolygons);
+      entries = mergedWithMoved(std::move(before->entries), std::move(moved), reuse->movedPolygons);
       if (memo) ++memo->keptPairs;
     } else {
       for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
@@ -606,14 +610,16 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
   // have a fan of that plane, and each finds X against its own bounded fan, a rounding apart; an
   // edge crossing the plane gives X once for each of its polygons. One fan per X, with all of
   // them as hinge polygons (a polygon through X left out would cut the lines there).
-  struct Crossing {
-    size_t lightEdge = 0;
-    EdgeId edge = 0;
+  // Every crossing found, as a flat list sorted by its point's key afterwards (a map allocated a
+  // node and a list per crossing, every frame, for the thousands of an axis-aligned room).
+  using Key = std::tuple<size_t, EdgeId, long long, long long, long long>;
+  struct Found {
+    Key key;
     Vec3 x, a, b;
-    std::vector<PolygonId> polygons;
+    PolygonId polygon;
   };
   const double apart = 1e-9 * scene.extent.diagonalLength();
-  std::map<std::tuple<size_t, EdgeId, long long, long long, long long>, Crossing> crossings;
+  std::vector<Found> found;
   for (const DiscontinuitySurface& fan : evSurfaces) {
     if (fan.light != light || fan.kind != SurfaceKind::kEmitterVertexOccluderEdge) continue;
     const SceneEdge& edge = adjacency.edges()[fan.occluderFeature];
@@ -636,18 +642,36 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
           if (!(end == 0 ? cut.boundaryAt0 : cut.boundaryAt1)) continue;
           const Vec3 x = end == 0 ? cut.p0 : cut.p1;
           if (lightPolygon.plane.signedDistance(x) <= 0) continue;
-          Crossing& c =
-              crossings[{lightEdge, EdgeId(fan.occluderFeature), std::llround(x.x / apart),
-                         std::llround(x.y / apart), std::llround(x.z / apart)}];
-          if (c.polygons.empty()) c = {lightEdge, EdgeId(fan.occluderFeature), x, a, b, {}};
-          if (!std::count(c.polygons.begin(), c.polygons.end(), cut.polygon))
-            c.polygons.push_back(cut.polygon);
+          found.push_back({{lightEdge, EdgeId(fan.occluderFeature), std::llround(x.x / apart),
+                            std::llround(x.y / apart), std::llround(x.z / apart)},
+                           x,
+                           a,
+                           b,
+                           cut.polygon});
         }
       }
     }
   }
+  // Stable: a crossing's point and ends are those found first, its polygons in the order found.
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Found& p, const Found& q) { return p.key < q.key; });
+  struct Crossing {
+    size_t lightEdge = 0;
+    EdgeId edge = 0;
+    Vec3 x, a, b;
+    std::vector<PolygonId> polygons;
+  };
+  std::vector<Crossing> crossings;
+  for (size_t k = 0; k < found.size();) {
+    const Found& first = found[k];
+    Crossing c{std::get<0>(first.key), std::get<1>(first.key), first.x, first.a, first.b, {}};
+    for (; k < found.size() && found[k].key == first.key; ++k)
+      if (!std::count(c.polygons.begin(), c.polygons.end(), found[k].polygon))
+        c.polygons.push_back(found[k].polygon);
+    crossings.push_back(std::move(c));
+  }
   std::vector<DiscontinuitySurface> surfaces;
-  for (const auto& [key, c] : crossings) {
+  for (const Crossing& c : crossings) {
     const Vec3 &s0 = lv[c.lightEdge], &s1 = lv[(c.lightEdge + 1) % n];
     // The common plane, through the end of the occluder edge farther from the light edge's line.
     const Vec3 ma = cross(s1 - s0, c.a - s0), mb = cross(s1 - s0, c.b - s0);

@@ -30,7 +30,7 @@ struct NonEmitterEvMemo {
 // `unchangedVertices` keeps what the unmoved polygons gave it, and the moved polygons
 // (`movedPolygons`, ascending) listed in its region's cells are examined again.
 struct NonEmitterEvReuse {
-  const NonEmitterEvMemo& before;
+  NonEmitterEvMemo& before;  // taken over: what it keeps is moved out
   const std::vector<char>& unchangedVertices;
   const std::vector<PolygonId>& movedPolygons;
 };
@@ -87,7 +87,7 @@ struct CoplanarCrossingMemo {
 // whose two edges are flagged in `unchangedEdges` keeps what the unmoved polygons gave it, and
 // the moved polygons (`movedPolygons`, ascending) listed in its region's cells are examined again.
 struct CoplanarCrossingReuse {
-  const CoplanarCrossingMemo& before;
+  CoplanarCrossingMemo& before;  // taken over: what it keeps is moved out
   const std::vector<char>& unchangedEdges;
   const std::vector<PolygonId>& movedPolygons;
 };
