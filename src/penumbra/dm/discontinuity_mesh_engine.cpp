@@ -463,6 +463,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   nonEmitter_.clear();
   std::map<PolygonId, CoplanarCrossingMemo> previousCoplanar = std::move(coplanarCrossings_);
   coplanarCrossings_.clear();
+  std::map<PolygonId, OccluderPlaneMemo> previousOccluderPlanes = std::move(occluderPlanes_);
+  occluderPlanes_.clear();
   bool staticUnchanged = unchanged.has_value();
   for (size_t p = 0; staticUnchanged && p < scene.polygons.size(); ++p) {
     if (movedPolygons[p]) continue;
@@ -497,8 +499,19 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     stats_.keptNonEmitterVertices += memo.keptVertices;
     stats_.examinedNonEmitterVertices += memo.examinedVertices;
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
+    // Offered on the non-emitter enumeration's terms: the same polygons, edges and light.
+    const auto planesBefore = previousOccluderPlanes.find(light);
+    const std::optional<OccluderPlaneReuse> planeReuse =
+        staticUnchanged && planesBefore != previousOccluderPlanes.end()
+            ? std::optional<OccluderPlaneReuse>(
+                  OccluderPlaneReuse{planesBefore->second, unchanged->polygons, movedIds})
+            : std::nullopt;
+    OccluderPlaneMemo& planes = occluderPlanes_[light];
     surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light,
-                                              SurfaceId(surfaces_.size()));
+                                              SurfaceId(surfaces_.size()), &planes,
+                                              planeReuse ? &*planeReuse : nullptr);
+    stats_.keptOccluderPlanes += planes.keptPolygons;
+    stats_.examinedOccluderPlanes += planes.examinedPolygons;
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
   }
   for (const DiscontinuitySurface& s : surfaces_) {
@@ -897,6 +910,12 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
     bytes += sizeof(key) + found.capacity() * sizeof(EeeCandidate);
   for (const auto& [light, memo] : nonEmitter_)
     for (const auto& entries : memo.byVertex) {
+      bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
+      for (const auto& [polygon, surfaces] : entries)
+        bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
+    }
+  for (const auto& [light, memo] : occluderPlanes_)
+    for (const auto& entries : memo.byPolygon) {
       bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
       for (const auto& [polygon, surfaces] : entries)
         bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);

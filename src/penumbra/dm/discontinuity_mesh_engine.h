@@ -63,6 +63,10 @@ struct DmStats {
   // Pairs of coplanar edges whose crossing surfaces were taken over (the pair and the polygons in
   // its region's cells unchanged, moved ones examined again), and those examined.
   long long keptCoplanarPairs = 0, examinedCoplanarPairs = 0;
+  // Polygons whose planes' crossing surfaces (occluder plane × occluder edge) were taken over
+  // (the polygon and the polygons in its region's cells unchanged, moved ones examined again),
+  // and those examined.
+  long long keptOccluderPlanes = 0, examinedOccluderPlanes = 0;
   int surfacesEmitterVertex = 0;      // light vertex × occluder edge
   int surfacesEmitterEdge = 0;        // light edge × occluder vertex
   int surfacesNonEmitter = 0;         // occluder vertex × occluder edge
@@ -386,6 +390,7 @@ class DiscontinuityMeshEngine {
   EeeCandidateMemo eeeCandidates_;   // what EEE enumeration found, for the next update
   std::vector<std::vector<DiscontinuitySegment>> visible_;       // each planar surface's, ditto
   std::map<PolygonId, NonEmitterEvMemo> nonEmitter_;             // by light, ditto
+  std::map<PolygonId, OccluderPlaneMemo> occluderPlanes_;        // by light, ditto
   std::map<PolygonId, CoplanarCrossingMemo> coplanarCrossings_;  // by light, ditto
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;

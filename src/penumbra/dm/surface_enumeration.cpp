@@ -267,16 +267,18 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
   return surfaces;
 }
 
-std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
-                                                                 const EdgeAdjacency& adjacency,
-                                                                 const UniformGrid& grid,
-                                                                 PolygonId light,
-                                                                 SurfaceId firstId) {
+std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
+    PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo, const OccluderPlaneReuse* reuse) {
   const double reach = 2 * scene.extent.diagonalLength();
   std::vector<DiscontinuitySurface> surfaces;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
+  // The polygon q that last examined each edge (a stamp: a list of flags over every edge of the
+  // scene made for each q was quadratic in the scene).
+  std::vector<PolygonId> seen(adjacency.edges().size(), -1);
+  if (memo) memo->byPolygon.assign(scene.polygons.size(), {});
   for (const WorldPolygon& q : scene.polygons) {
     if (q.isLight || q.id == light) continue;
     const std::vector<VertexId>& corners = adjacency.polygonVertices(q.id);
@@ -339,14 +341,13 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
       region.extend(x);
       for (const Vec3& c : lv) region.extend(x + normalize(x - c) * reach);
     }
-    std::vector<char> seen(adjacency.edges().size(), 0);
-    for (PolygonId id : grid.polygonsInBox(region)) {
-      if (id == light || std::count(touching.begin(), touching.end(), id)) continue;
+    // The surfaces through the edges of polygon `id` not examined before for q.
+    const auto examine = [&](PolygonId id, std::vector<DiscontinuitySurface>& out) {
       const std::vector<VertexId>& others = adjacency.polygonVertices(id);
       for (size_t k = 0; k < others.size(); ++k) {
         const EdgeId edgeId = adjacency.edgeBetween(others[k], others[(k + 1) % others.size()]);
-        if (edgeId < 0 || seen[edgeId]) continue;
-        seen[edgeId] = 1;
+        if (edgeId < 0 || seen[edgeId] == q.id) continue;
+        seen[edgeId] = q.id;
         const SceneEdge& edge = adjacency.edges()[edgeId];
         if (!edge.canBeSilhouette || touchesLight(edge.polygons, light)) continue;
         const Vec3 a = adjacency.position(edge.a), b = adjacency.position(edge.b);
@@ -359,7 +360,6 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
         // The w where the line through S(w) and x passes through q.
         for (const auto& [w0, w1] : pivotRanges(x, t0, t1, m, q.vertices, true)) {
           DiscontinuitySurface s;
-          s.id = firstId + SurfaceId(surfaces.size());
           s.kind = SurfaceKind::kOccluderPlaneOccluderEdge;
           s.light = light;
           s.lightFeature = -1;
@@ -368,10 +368,34 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScen
           s.hingePolygons = touching;
           s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
           s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, outline};
-          surfaces.push_back(std::move(s));
+          out.push_back(std::move(s));
         }
       }
+    };
+    const auto examined = [&](PolygonId id, PolygonEntries& entries) {
+      if (id == light || std::count(touching.begin(), touching.end(), id)) return;
+      entries.push_back({id, {}});
+      examine(id, entries.back().second);
+      if (entries.back().second.empty()) entries.pop_back();
+    };
+    PolygonEntries entries;  // (polygon, the surfaces of its edges first examined there)
+    const size_t qi = size_t(q.id);
+    if (reuse && qi < reuse->before.byPolygon.size() && reuse->unchangedPolygons[qi]) {
+      // The same polygon, light and region: the polygons that did not move are listed in the
+      // same cells and give what they gave (sharing no edge with a moved one, they examine the
+      // same edges first); a moved polygon listed in the region's cells now is examined again.
+      PolygonEntries moved;
+      for (PolygonId id : reuse->movedPolygons)
+        if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
+      entries = mergedWithMoved(std::move(reuse->before.byPolygon[qi]), std::move(moved),
+                                reuse->movedPolygons);
+      if (memo) ++memo->keptPolygons;
+    } else {
+      for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
+      if (memo) ++memo->examinedPolygons;
     }
+    appendNumbered(entries, firstId, surfaces);
+    if (memo) memo->byPolygon[qi] = std::move(entries);
     // Seen from q's plane, q's projection is a segment on the light's trace; crossing the plane
     // flips it over, wherever that segment overlaps the lit part of the trace. The fans from T
     // above hold the points from which it covers an end of the trace; the points from which it

@@ -50,11 +50,27 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
 // (SurfaceKind::kOccluderPlaneOccluderEdge); and for each of the polygon's own vertices V, the
 // lines of the plane through V tangent to the polygon that meet the light
 // (SurfaceKind::kOccluderPlaneOccluderVertex).
-std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(const PosedScene& scene,
-                                                                 const EdgeAdjacency& adjacency,
-                                                                 const UniformGrid& grid,
-                                                                 PolygonId light,
-                                                                 SurfaceId firstId);
+// What the occluder-plane enumeration found where other occluders' edges cross each polygon's
+// plane, kept for the next frame: by polygon id, the polygons of its region (ascending) whose
+// edges, first examined there, gave surfaces, with those surfaces (ids unset). A function of the
+// polygon, the light and the polygons listed in the grid cells of its region.
+struct OccluderPlaneMemo {
+  std::vector<std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>> byPolygon;
+  long long keptPolygons = 0, examinedPolygons = 0;
+};
+// How to read the frame before's memo, on the non-emitter enumeration's terms: a polygon flagged
+// in `unchangedPolygons` keeps what the unmoved polygons gave it, and the moved polygons listed
+// in its region's cells are examined again.
+struct OccluderPlaneReuse {
+  OccluderPlaneMemo& before;  // taken over: what it keeps is moved out
+  const std::vector<char>& unchangedPolygons;
+  const std::vector<PolygonId>& movedPolygons;
+};
+
+std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
+    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
+    PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo = nullptr,
+    const OccluderPlaneReuse* reuse = nullptr);
 
 // A light edge and two coplanar occluder edges (EdgeAdjacency ids) that some line meets.
 struct CoplanarEdgePair {
