@@ -481,37 +481,37 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.lights = int(scene.lights.size());
   stats_.gridBytes = grid_->memoryBytes();
 
+  // A memo of the frame before offered to an enumeration by item (FoundByItemReuse): where
+  // every polygon that did not move kept its ids and shares no edge with a moved one.
+  const auto reuseOf = [&](std::map<PolygonId, FoundByItem>& before, PolygonId light,
+                           std::vector<char> UnchangedTopology::*items) {
+    const auto it = before.find(light);
+    return staticUnchanged && it != before.end() ? std::optional<FoundByItemReuse>(FoundByItemReuse{
+                                                       it->second, (*unchanged).*items, movedIds})
+                                                 : std::nullopt;
+  };
   auto start = Clock::now();
   for (PolygonId light : scene.lights) {
     std::vector<DiscontinuitySurface> surfaces =
         enumerateEmitterEvSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
-    const auto before = previousNonEmitter.find(light);
-    const std::optional<NonEmitterEvReuse> nonEmitterReuse =
-        staticUnchanged && before != previousNonEmitter.end()
-            ? std::optional<NonEmitterEvReuse>(
-                  NonEmitterEvReuse{before->second, unchanged->vertices, movedIds})
-            : std::nullopt;
     NonEmitterEvMemo& memo = nonEmitter_[light];
+    const std::optional<NonEmitterEvReuse> nonEmitterReuse =
+        reuseOf(previousNonEmitter, light, &UnchangedTopology::vertices);
     surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,
                                              SurfaceId(surfaces_.size()), &memo,
                                              nonEmitterReuse ? &*nonEmitterReuse : nullptr);
-    stats_.keptNonEmitterVertices += memo.keptVertices;
-    stats_.examinedNonEmitterVertices += memo.examinedVertices;
+    stats_.keptNonEmitterVertices += memo.kept;
+    stats_.examinedNonEmitterVertices += memo.examined;
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
-    // Offered on the non-emitter enumeration's terms: the same polygons, edges and light.
-    const auto planesBefore = previousOccluderPlanes.find(light);
-    const std::optional<OccluderPlaneReuse> planeReuse =
-        staticUnchanged && planesBefore != previousOccluderPlanes.end()
-            ? std::optional<OccluderPlaneReuse>(
-                  OccluderPlaneReuse{planesBefore->second, unchanged->polygons, movedIds})
-            : std::nullopt;
     OccluderPlaneMemo& planes = occluderPlanes_[light];
+    const std::optional<OccluderPlaneReuse> planeReuse =
+        reuseOf(previousOccluderPlanes, light, &UnchangedTopology::polygons);
     surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light,
                                               SurfaceId(surfaces_.size()), &planes,
                                               planeReuse ? &*planeReuse : nullptr);
-    stats_.keptOccluderPlanes += planes.keptPolygons;
-    stats_.examinedOccluderPlanes += planes.examinedPolygons;
+    stats_.keptOccluderPlanes += planes.kept;
+    stats_.examinedOccluderPlanes += planes.examined;
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
   }
   for (const DiscontinuitySurface& s : surfaces_) {
@@ -908,18 +908,13 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
   }
   for (const auto& [key, found] : eeeCandidates_.byCrossing)
     bytes += sizeof(key) + found.capacity() * sizeof(EeeCandidate);
-  for (const auto& [light, memo] : nonEmitter_)
-    for (const auto& entries : memo.byVertex) {
-      bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
-      for (const auto& [polygon, surfaces] : entries)
-        bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
-    }
-  for (const auto& [light, memo] : occluderPlanes_)
-    for (const auto& entries : memo.byPolygon) {
-      bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
-      for (const auto& [polygon, surfaces] : entries)
-        bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
-    }
+  for (const auto* memos : {&nonEmitter_, &occluderPlanes_})
+    for (const auto& [light, memo] : *memos)
+      for (const auto& entries : memo.byItem) {
+        bytes += sizeof(entries) + entries.capacity() * sizeof(entries[0]);
+        for (const auto& [polygon, surfaces] : entries)
+          bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
+      }
   for (const auto& [light, memo] : coplanarCrossings_)
     for (const CoplanarCrossingMemo::Pair& pair : memo.pairs) {
       bytes += sizeof(pair) + pair.entries.capacity() * sizeof(pair.entries[0]);

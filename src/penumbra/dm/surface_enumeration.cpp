@@ -186,7 +186,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
   const Polygon3& lv = lightPolygon.vertices;
   const double reach = 2 * scene.extent.diagonalLength();
   std::vector<int> seen(adjacency.edges().size(), -1);  // last vertex that examined each edge
-  if (memo) memo->byVertex.assign(adjacency.vertices().size(), {});
+  if (memo) memo->byItem.assign(adjacency.vertices().size(), {});
 
   // The surfaces of vertex vi with the edges of polygon `id` not examined before for vi.
   const auto examine = [&](size_t vi, PolygonId id, std::vector<DiscontinuitySurface>& out) {
@@ -238,7 +238,7 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
     region.extend(v);
     for (const Vec3& c : lv) region.extend(v + normalize(v - c) * reach);
     Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
-    if (reuse && vi < reuse->before.byVertex.size() && reuse->unchangedVertices[vi]) {
+    if (reuse && vi < reuse->before.byItem.size() && reuse->unchangedItems[vi]) {
       // The same vertex and region: the polygons that did not move are listed in the same cells
       // and give what they gave (sharing no edge with a moved one, they examine the same edges
       // first); a moved polygon listed in the region's cells now is examined again.
@@ -249,9 +249,9 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
           examine(vi, id, moved.back().second);
           if (moved.back().second.empty()) moved.pop_back();
         }
-      entries = mergedWithMoved(std::move(reuse->before.byVertex[vi]), std::move(moved),
+      entries = mergedWithMoved(std::move(reuse->before.byItem[vi]), std::move(moved),
                                 reuse->movedPolygons);
-      if (memo) ++memo->keptVertices;
+      if (memo) ++memo->kept;
     } else {
       for (PolygonId id : grid.polygonsInBox(region)) {
         if (id == light) continue;
@@ -259,10 +259,10 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
         examine(vi, id, found);
         if (!found.empty()) entries.push_back({id, std::move(found)});
       }
-      if (memo) ++memo->examinedVertices;
+      if (memo) ++memo->examined;
     }
     appendNumbered(entries, firstId, surfaces);
-    if (memo) memo->byVertex[vi] = std::move(entries);
+    if (memo) memo->byItem[vi] = std::move(entries);
   }
   return surfaces;
 }
@@ -278,7 +278,7 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
   // The polygon q that last examined each edge (a stamp: a list of flags over every edge of the
   // scene made for each q was quadratic in the scene).
   std::vector<PolygonId> seen(adjacency.edges().size(), -1);
-  if (memo) memo->byPolygon.assign(scene.polygons.size(), {});
+  if (memo) memo->byItem.assign(scene.polygons.size(), {});
   for (const WorldPolygon& q : scene.polygons) {
     if (q.isLight || q.id == light) continue;
     const std::vector<VertexId>& corners = adjacency.polygonVertices(q.id);
@@ -380,22 +380,22 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
     };
     PolygonEntries entries;  // (polygon, the surfaces of its edges first examined there)
     const size_t qi = size_t(q.id);
-    if (reuse && qi < reuse->before.byPolygon.size() && reuse->unchangedPolygons[qi]) {
+    if (reuse && qi < reuse->before.byItem.size() && reuse->unchangedItems[qi]) {
       // The same polygon, light and region: the polygons that did not move are listed in the
       // same cells and give what they gave (sharing no edge with a moved one, they examine the
       // same edges first); a moved polygon listed in the region's cells now is examined again.
       PolygonEntries moved;
       for (PolygonId id : reuse->movedPolygons)
         if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
-      entries = mergedWithMoved(std::move(reuse->before.byPolygon[qi]), std::move(moved),
+      entries = mergedWithMoved(std::move(reuse->before.byItem[qi]), std::move(moved),
                                 reuse->movedPolygons);
-      if (memo) ++memo->keptPolygons;
+      if (memo) ++memo->kept;
     } else {
       for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
-      if (memo) ++memo->examinedPolygons;
+      if (memo) ++memo->examined;
     }
     appendNumbered(entries, firstId, surfaces);
-    if (memo) memo->byPolygon[qi] = std::move(entries);
+    if (memo) memo->byItem[qi] = std::move(entries);
     // Seen from q's plane, q's projection is a segment on the light's trace; crossing the plane
     // flips it over, wherever that segment overlaps the lit part of the trace. The fans from T
     // above hold the points from which it covers an end of the trace; the points from which it

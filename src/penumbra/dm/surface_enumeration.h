@@ -17,23 +17,28 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
                                                              const EdgeAdjacency& adjacency,
                                                              PolygonId light, SurfaceId firstId);
 
-// What the non-emitter enumeration found at each vertex, kept for the next frame: by vertex id,
-// the polygons of its region (ascending) whose edges, first examined there, gave surfaces, with
-// those surfaces (ids unset). A vertex's surfaces are a function of the vertex, the light and the
-// polygons listed in the grid cells of its region.
-struct NonEmitterEvMemo {
-  std::vector<std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>> byVertex;
-  long long keptVertices = 0, examinedVertices = 0;
+// What an enumeration found per item (a vertex of the non-emitter EV fans, a polygon whose
+// plane gives occluder-plane crossings), kept for the next frame: by item id, the polygons of the
+// item's region (ascending) whose edges, first examined there, gave surfaces, with those surfaces
+// (ids unset). An item's surfaces are a function of the item, the light and the polygons listed
+// in the grid cells of its region.
+struct FoundByItem {
+  std::vector<std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>> byItem;
+  long long kept = 0, examined = 0;  // items taken over, and examined
 };
 // How to read the frame before's memo, offered when every polygon that did not move kept its
-// ids, corners and edges and shares no edge with a moved one: a vertex flagged in
-// `unchangedVertices` keeps what the unmoved polygons gave it, and the moved polygons
+// ids, corners and edges and shares no edge with a moved one: an item flagged in
+// `unchangedItems` keeps what the unmoved polygons gave it, and the moved polygons
 // (`movedPolygons`, ascending) listed in its region's cells are examined again.
-struct NonEmitterEvReuse {
-  NonEmitterEvMemo& before;  // taken over: what it keeps is moved out
-  const std::vector<char>& unchangedVertices;
+struct FoundByItemReuse {
+  FoundByItem& before;  // taken over: what it keeps is moved out
+  const std::vector<char>& unchangedItems;
   const std::vector<PolygonId>& movedPolygons;
 };
+using NonEmitterEvMemo = FoundByItem;  // by vertex id
+using NonEmitterEvReuse = FoundByItemReuse;
+using OccluderPlaneMemo = FoundByItem;  // by polygon id
+using OccluderPlaneReuse = FoundByItemReuse;
 
 // Occluder vertex V × occluder edge E (V not on E), both in front of the light, E a silhouette
 // seen from V: the lines through V and E that meet the light, one surface per connected range of
@@ -50,23 +55,6 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
 // (SurfaceKind::kOccluderPlaneOccluderEdge); and for each of the polygon's own vertices V, the
 // lines of the plane through V tangent to the polygon that meet the light
 // (SurfaceKind::kOccluderPlaneOccluderVertex).
-// What the occluder-plane enumeration found where other occluders' edges cross each polygon's
-// plane, kept for the next frame: by polygon id, the polygons of its region (ascending) whose
-// edges, first examined there, gave surfaces, with those surfaces (ids unset). A function of the
-// polygon, the light and the polygons listed in the grid cells of its region.
-struct OccluderPlaneMemo {
-  std::vector<std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>> byPolygon;
-  long long keptPolygons = 0, examinedPolygons = 0;
-};
-// How to read the frame before's memo, on the non-emitter enumeration's terms: a polygon flagged
-// in `unchangedPolygons` keeps what the unmoved polygons gave it, and the moved polygons listed
-// in its region's cells are examined again.
-struct OccluderPlaneReuse {
-  OccluderPlaneMemo& before;  // taken over: what it keeps is moved out
-  const std::vector<char>& unchangedPolygons;
-  const std::vector<PolygonId>& movedPolygons;
-};
-
 std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
     PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo = nullptr,
