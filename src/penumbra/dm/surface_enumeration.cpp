@@ -335,7 +335,8 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
     const Vec3 m = q.plane.normal;
     const auto trace = lightTrace(lv, lightPlane.normal, m, q.vertices[0]);
     if (!trace) continue;
-    const auto [t0, t1] = *trace;
+    // Named copies, not structured bindings: the lambdas below capture them (clang 14).
+    const Vec3 t0 = (*trace)[0], t1 = (*trace)[1];
     Box3 region = lightPolygon.bounds;
     for (const Vec3& x : q.vertices) {
       region.extend(x);
