@@ -46,7 +46,8 @@ using WalkLocation = CGAL::Arr_walk_along_line_point_location<Arrangement>;
 
 // Where a piece comes from, in the doubles it was computed from: its segment's ends, and the ends
 // of the segment (or outline edge) whose line it was snapped onto. Equal sources give the same
-// exact piece (snapping is exact arithmetic on them), so an update compares pieces by source.
+// exact piece (snapping is exact arithmetic on them), so an update compares pieces by source
+// (and by their exact ends where only the line's doubles differ: ReceiverMesh::update).
 struct PieceSource {
   std::array<double, 6> own{};
   std::array<double, 6> line{};  // all zero when not snapped
@@ -861,25 +862,23 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     size_t from, to;  // its run in the list
     size_t hash;      // of its sources, equal for equal groups
   };
-  using Member = std::pair<SurfaceId, const PieceSource*>;
+  using Member = std::pair<SurfaceId, const Piece*>;
   const auto groupsOf = [](const std::vector<Piece>& pieces, std::vector<Member>& members) {
     members.clear();
     members.reserve(pieces.size());
-    for (const Piece& p : pieces) members.push_back({p.surface, &p.source});
+    for (const Piece& p : pieces) members.push_back({p.surface, &p});
     std::sort(members.begin(), members.end(), [](const Member& x, const Member& y) {
-      return x.first != y.first ? x.first < y.first : *x.second < *y.second;
+      return x.first != y.first ? x.first < y.first : x.second->source < y.second->source;
     });
-    // Zeros of either sign compare equal: they hash alike.
+    // Zeros of either sign compare equal: they hash alike. The line a piece was snapped onto is
+    // left out: another member of its snap group on the same exact line (a moving event's
+    // segment joining a row of static ones) gives the same piece from other doubles.
     const auto hashOf = [](double x) { return x == 0 ? size_t(0) : std::hash<double>{}(x); };
     std::vector<Group> groups;
     for (size_t i = 0; i < members.size();) {
       Group g{members[i].first, i, i, 0};
-      for (; i < members.size() && members[i].first == g.surface; ++i) {
-        const PieceSource& q = *members[i].second;
-        for (const auto* values : {&q.own, &q.line})
-          for (double x : *values) g.hash = g.hash * 1000003u ^ hashOf(x);
-        g.hash = g.hash * 31u + (q.snapped ? 1u : 0u);
-      }
+      for (; i < members.size() && members[i].first == g.surface; ++i)
+        for (double x : members[i].second->source.own) g.hash = g.hash * 1000003u ^ hashOf(x);
       g.to = i;
       groups.push_back(g);
     }
@@ -888,12 +887,18 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   std::vector<Member> beforeMembers, afterMembers;
   const std::vector<Group> before = groupsOf(m.pieces, beforeMembers);
   const std::vector<Group> after = groupsOf(now, afterMembers);
+  // Equal sources give the same piece; equal segments snapped onto lines given by other doubles
+  // give it where the exact ends agree (the same exact line), compared exactly only then.
+  const auto samePiece = [](const Member& a, const Member& b) {
+    const Piece &p = *a.second, &q = *b.second;
+    if (p.source == q.source) return true;
+    return p.source.own == q.source.own && p.isOutline == q.isOutline && p.a == q.a && p.b == q.b;
+  };
   const auto sameGroup = [&](const Group& x, const Group& y) {
     return x.hash == y.hash && x.to - x.from == y.to - y.from &&
            std::equal(beforeMembers.begin() + std::ptrdiff_t(x.from),
                       beforeMembers.begin() + std::ptrdiff_t(x.to),
-                      afterMembers.begin() + std::ptrdiff_t(y.from),
-                      [](const Member& a, const Member& b) { return *a.second == *b.second; });
+                      afterMembers.begin() + std::ptrdiff_t(y.from), samePiece);
   };
   // The groups before by hash, then surface: a surface now takes, among the groups before equal
   // to its own and not yet taken, the one of the highest surface id.

@@ -78,7 +78,8 @@ class ReceiverMesh {
   };
   // Makes the mesh exactly what insert(segments, snapTolerance) builds on a new mesh of the
   // receiver (the same faces, indices, samples and boundaries, bit for bit), editing it locally:
-  // a surface whose pieces (by the doubles they come from) are those of a surface already here
+  // a surface whose pieces (by the doubles they come from, or by their exact ends where only the
+  // line they were snapped onto came from other doubles) are those of a surface already here
   // takes over its edges under its new id; the others' edges are removed, the vertices that
   // leaves redundant merged away, and the new pieces inserted one by one (or, when more pieces
   // change than stay, the mesh is built again in one sweep). Gives each face's index before the
