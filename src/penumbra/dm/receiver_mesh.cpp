@@ -860,7 +860,7 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   struct Group {
     SurfaceId surface;
     size_t from, to;  // its run in the list
-    size_t hash;      // of its sources, equal for equal groups
+    size_t hash;      // of its pieces' own segments, equal for equal groups
   };
   using Member = std::pair<SurfaceId, const Piece*>;
   const auto groupsOf = [](const std::vector<Piece>& pieces, std::vector<Member>& members) {
