@@ -137,13 +137,12 @@ double scaleStep(int polygons) {
     steps.push_back(updateTo(live, engine, frame));
     const DmStats s = engine.stats();
     std::printf(
-        "  frame %d: update %.3f s; %lld meshes edited or built anew, %lld faces recomputed; "
-        "stages "
-        "s: surfaces "
+        "  frame %d: update %.3f s; %lld meshes edited or built anew, %lld kept (%lld of them "
+        "with their inputs carried over unassembled), %lld faces recomputed; stages s: surfaces "
         "%.3f casting %.3f EEE %.3f meshing %.3f backprojections %.3f verification %.3f\n",
-        frame, steps.back(), s.editedMeshes + s.rebuiltMeshes, s.recomputedFaces, s.secondsSurfaces,
-        s.secondsCasting, s.secondsEee, s.secondsMeshing, s.secondsBackprojections,
-        s.secondsVerification);
+        frame, steps.back(), s.editedMeshes + s.rebuiltMeshes, s.keptMeshes, s.carriedInputs,
+        s.recomputedFaces, s.secondsSurfaces, s.secondsCasting, s.secondsEee, s.secondsMeshing,
+        s.secondsBackprojections, s.secondsVerification);
   }
   std::printf("  median update step %.3f s\n", median(steps));
   return median(steps);

@@ -47,6 +47,9 @@ TEST(DmUpdate, KeyframeStepsEqualFullRecomputation) {
       const DmStats& s = engine.stats();
       EXPECT_FALSE(s.recomputedAll);
       EXPECT_GT(s.keptMeshes, 0) << name << " frame " << frame;
+      // Most kept meshes are far from the mover: their inputs are carried over, not assembled.
+      EXPECT_GT(s.carriedInputs, s.keptMeshes / 2) << name << " frame " << frame;
+      EXPECT_LE(s.carriedInputs, s.keptMeshes) << name << " frame " << frame;
       EXPECT_GT(s.reusedFaces, s.meshFaces / 10) << name << " frame " << frame;
       EXPECT_EQ(s.reusedFaces + s.recomputedFaces, s.meshFaces);
       expectEqualsFull(engine, live, std::string(name) + " frame " + std::to_string(frame));
@@ -85,7 +88,10 @@ TEST(DmUpdate, ArbitraryMovesOfAnOccluderAndOfTheLightEqualFullRecomputation) {
   };
   step(live.changeMoving(block, turnAbout(block, 0.4, {0.03, 0, -0.02})), "block turned");
   step(live.changeMoving(block, turnAbout(block, -0.1, {0, 0.05, 0})), "block lifted");
+  EXPECT_GT(engine.stats().carriedInputs, 0);
   step(live.changeMoving(light, turnAbout(light, 0.2, {0.05, -0.01, 0})), "light moved");
+  // A moved light changes every receiver's light-plane and horizon events: nothing carried.
+  EXPECT_EQ(engine.stats().carriedInputs, 0);
   step(live.changeToFrame(2), "back on the keyframes at frame 2");
 }
 

@@ -27,6 +27,7 @@ nlohmann::json statsJson(const DmStats& s) {
            {{"moved_objects", s.movedObjects},
             {"recomputed_all", s.recomputedAll},
             {"kept_meshes", s.keptMeshes},
+            {"carried_inputs", s.carriedInputs},
             {"rebuilt_meshes", s.rebuiltMeshes},
             {"edited_meshes", s.editedMeshes},
             {"removed_surfaces", s.removedSurfaces},

@@ -299,6 +299,47 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
   return true;
 }
 
+// Are two lists of a surface's visible pieces the same (geometry and receivers, bit for bit)?
+bool samePieces(const std::vector<DiscontinuitySegment>& before,
+                const std::vector<DiscontinuitySegment>& now) {
+  return before.size() == now.size() &&
+         std::equal(before.begin(), before.end(), now.begin(),
+                    [](const DiscontinuitySegment& a, const DiscontinuitySegment& b) {
+                      return a.receiver == b.receiver && a.p0 == b.p0 && a.p1 == b.p1 &&
+                             a.u0 == b.u0 && a.u1 == b.u1;
+                    });
+}
+
+// A receiver's inputs of the frame before under this frame's surface ids (`newIdOf`, by old id,
+// -1 for a surface whose pieces were not taken over): where every surface piece on it was taken
+// over and the new ids keep the old ones' order (pieces are filed by surface id, so the same
+// pieces come in the same order) and the receiver got as many surface pieces now (`pieces`).
+// The receiver's own events (negative ids) are kept as they are. `renamed`: (old id, new id)
+// where they differ, sorted by the old, for ReceiverMesh::renumberSurfaces.
+bool carriedInputs(const std::vector<DiscontinuitySegment>& before,
+                   const std::vector<SurfaceId>& newIdOf, size_t pieces,
+                   std::vector<DiscontinuitySegment>& inputs, ReceiverMesh::Renaming& renamed) {
+  inputs.clear();
+  renamed.clear();
+  inputs.reserve(before.size());
+  size_t surfacePieces = 0;
+  SurfaceId last = -1;
+  for (DiscontinuitySegment segment : before) {
+    if (segment.surface >= 0) {
+      const SurfaceId old = segment.surface;
+      if (size_t(old) >= newIdOf.size() || newIdOf[size_t(old)] < 0) return false;
+      segment.surface = newIdOf[size_t(old)];
+      if (segment.surface < last) return false;
+      last = segment.surface;
+      ++surfacePieces;
+      if (segment.surface != old && (renamed.empty() || renamed.back().first != old))
+        renamed.push_back({old, segment.surface});
+    }
+    inputs.push_back(segment);
+  }
+  return surfacePieces == pieces;
+}
+
 // The points a corner's verification probe is chosen from, in order (the first strictly inside
 // the face and away from EEE polylines is the probe): at each inset of the way to the face's
 // sample, the point towards the sample, then the points along the corner's bisector either
@@ -561,15 +602,39 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // By receiver id (lists indexed by polygon, not maps: every visible segment of the scene is
   // filed here every frame).
   std::vector<std::vector<DiscontinuitySegment>> perReceiver(posed_->polygons.size());
+  // An update follows which receivers any surface's pieces changed on: a surface's pieces that
+  // are those of the frame before (kept, or found again the same) map its old id to its new one
+  // (`newIdOf`, planar surfaces then EEE ones by their old ids); a surface whose pieces are new
+  // or differ, and one of the frame before no surface took, marks their receivers. A receiver
+  // no mark reaches gets the same pieces from the same surfaces, in the same order where the
+  // new ids keep the old ones' order: its inputs are those of the frame before, renamed (the
+  // receivers' loop, carriedInputs).
+  std::vector<char> piecesChanged(change ? scene.polygons.size() : 0, 0);
+  std::vector<SurfaceId> newIdOf(change ? previousSurfaces.size() : 0, -1);
+  std::vector<char> visibleTaken(previousVisible.size(), 0);
+  const auto markReceivers = [&](const std::vector<DiscontinuitySegment>& pieces) {
+    for (const DiscontinuitySegment& piece : pieces) piecesChanged[size_t(piece.receiver)] = 1;
+  };
   const auto addVisible = [&](const DiscontinuitySurface& s, size_t index) {
     std::vector<DiscontinuitySegment> pieces;
     const int then = index < previousIndex.size() ? previousIndex[index] : -1;
-    if (then >= 0 && keptCast[index] && size_t(then) < previousVisible.size() &&
+    const bool hadPieces = then >= 0 && size_t(then) < previousVisible.size();
+    if (hadPieces && keptCast[index] &&
         previousSurfaces[size_t(then)].hingePolygons == s.hingePolygons) {
       pieces = std::move(previousVisible[size_t(then)]);
       for (DiscontinuitySegment& segment : pieces) segment.surface = s.id;
+      if (change) {
+        visibleTaken[size_t(then)] = 1;
+        newIdOf[size_t(then)] = s.id;
+      }
     } else {
       pieces = visibleSegments(s, posed_->polygons);
+      if (change && hadPieces && samePieces(previousVisible[size_t(then)], pieces)) {
+        visibleTaken[size_t(then)] = 1;
+        newIdOf[size_t(then)] = s.id;
+      } else if (change) {
+        markReceivers(pieces);
+      }
     }
     for (const DiscontinuitySegment& segment : pieces) {
       ++stats_.visibleSegments;
@@ -615,6 +680,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     previousByKey.add(previousTraces[i].key.hash(), i);
   previousByKey.seal();
   const bool mayKeepTraces = change && !change->movesLight();
+  // The frame before's EEE surfaces were numbered after its planar ones, in trace order.
+  const size_t previousPlanar = newIdOf.size();
+  if (change) newIdOf.resize(previousPlanar + previousTraces.size(), -1);
+  std::vector<char> traceTaken(previousTraces.size(), 0);
   // A trace reads only the polygons its lines cross (traceEeeSurface): none of them moved where
   // no moved object's old or new bounds (with a margin for the crossing's rounding) meet a line.
   std::vector<Box3> movedBounds;
@@ -642,7 +711,11 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                                [&](int cell) { return movedCells[cell] != 0; }) ||
                   std::none_of(before.lines.begin(), before.lines.end(), meetsMoved));
         });
-        if (then) kept = &previousTraces[*then];
+        if (then) {
+          kept = &previousTraces[*then];
+          traceTaken[*then] = 1;
+          newIdOf[previousPlanar + *then] = s.id;
+        }
       }
       if (kept) {
         s.cells = std::move(kept->cells);
@@ -656,6 +729,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         trace.segments = traceEeeSurface(s, scene, *adjacency_, *grid_, chord,
                                          to ? &crossed : nullptr, &trace.lines);
         if (!to) crossed.clear();
+        if (change) markReceivers(trace.segments);
       }
       trace.cells = s.cells;
       trace.truncated = s.truncated;
@@ -723,6 +797,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   }
   stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing -
                                  stats_.surfacesCoplanarEdgeCrossing;
+  for (size_t i = 0; change && i < visibleTaken.size(); ++i)
+    if (!visibleTaken[i]) markReceivers(previousVisible[i]);
   for (size_t k = 0; k < eeeSurfaces_.size(); ++k)
     eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the
@@ -742,74 +818,117 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.keptCandidateCuts = eeeCandidates_.keptCuts;
   stats_.examinedCandidateCuts = eeeCandidates_.foundCuts;
   traceFrom(lightEdgeSurfaces, nullptr);
+  for (size_t i = 0; change && i < traceTaken.size(); ++i)
+    if (!traceTaken[i]) markReceivers(previousTraces[i].segments);
   stats_.secondsEee = secondsSince(start);
 
   start = Clock::now();
   const double sliver = kSliverSize * scene.extent.diagonalLength();
   double backprojectionSeconds = 0;
-  for (const WorldPolygon& receiver : scene.polygons) {
-    if (receiver.isLight) continue;
-    std::vector<DiscontinuitySegment> segments;
-    // Segments end where events meet, computed apart: extend their ends (see extended()). The
-    // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they are.
-    // An end is open when no other segment of its surface ends there: counted in one sorted
-    // list (a map of counts allocated a node per end, thousands on a floor, every frame).
-    using EndKey = std::pair<SurfaceId, std::array<double, 3>>;
-    const auto endKey = [](const DiscontinuitySegment& s, const Vec3& p) {
-      return EndKey{s.surface, std::array<double, 3>{p.x, p.y, p.z}};
-    };
-    const std::vector<DiscontinuitySegment>& onReceiver = perReceiver[receiver.id];
-    std::vector<EndKey> ends;
-    ends.reserve(2 * onReceiver.size());
-    for (const DiscontinuitySegment& segment : onReceiver) {
-      ends.push_back(endKey(segment, segment.p0));
-      ends.push_back(endKey(segment, segment.p1));
-    }
-    std::sort(ends.begin(), ends.end());
-    const auto isOpen = [&](const EndKey& key) {
-      const auto [from, to] = std::equal_range(ends.begin(), ends.end(), key);
-      return to - from == 1;
-    };
-    const double diagonal = scene.extent.diagonalLength();
-    const double by = kSegmentExtension * diagonal;
-    segments.reserve(onReceiver.size());
-    for (const DiscontinuitySegment& segment : onReceiver) {
-      const bool open0 = isOpen(endKey(segment, segment.p0));
-      const bool open1 = isOpen(endKey(segment, segment.p1));
-      segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
-    }
-    // Segments no surface makes are extended at both ends. Contact lines end exactly at occluder
-    // vertices where computed events start (the foot of an edge standing on the receiver): an
-    // event passing an ulp beside that end must still cross them.
-    const auto addExtended = [&](const std::vector<DiscontinuitySegment>& pieces,
-                                 long long& count) {
-      for (const DiscontinuitySegment& segment : pieces)
-        segments.push_back(extended(segment, by, by));
-      count += (long long)pieces.size();
-    };
+  const double diagonal = scene.extent.diagonalLength();
+  // Whether a receiver's own events (contact lines, light planes, horizons) may differ from the
+  // frame before: they read the polygons the grid lists in the receiver's box (with the lights
+  // its plane cuts, for the horizons), so they are the same where no cell of that box is one a
+  // moved object's old or new bounds overlap (a moved light changes them all: not carried).
+  const auto planeEventsMayChange = [&](const WorldPolygon& receiver) {
+    Box3 region = receiver.bounds.expanded(2e-9 * diagonal);
     for (PolygonId light : scene.lights) {
       const WorldPolygon& lightPolygon = scene.polygons[light];
-      addExtended(lightPlaneSegments(receiver, lightPolygon, lightPlaneSurface(scene, light)),
-                  stats_.lightPlaneSegments);
-      addExtended(horizonSegments(*adjacency_, *grid_, receiver, lightPolygon,
-                                  horizonSurface(scene, light)),
-                  stats_.horizonSegments);
+      bool above = false, notAbove = false;
+      for (const Vec3& v : lightPolygon.vertices)
+        (receiver.plane.signedDistance(v) > 0 ? above : notAbove) = true;
+      if (above && notAbove) region.extend(lightPolygon.bounds);
     }
-    addExtended(contactSegments(scene, *grid_, receiver), stats_.contactSegments);
+    bool touched = false;
+    grid_->forEachCellOverlappingBox(region,
+                                     [&](int cell) { touched = touched || movedCells[cell] != 0; });
+    return touched;
+  };
+  // The receiver's own events among carried inputs, counted as assembling them counts them.
+  const auto countOwnEvents = [&](const std::vector<DiscontinuitySegment>& inputs) {
+    const SurfaceId n = SurfaceId(scene.polygons.size());
+    for (const DiscontinuitySegment& segment : inputs) {
+      if (segment.surface >= ReceiverMesh::kBoundary) continue;
+      const SurfaceId k = ReceiverMesh::kBoundary - 1 - segment.surface;
+      ++(k < n       ? stats_.contactSegments
+         : k < 2 * n ? stats_.lightPlaneSegments
+                     : stats_.horizonSegments);
+    }
+  };
+  for (const WorldPolygon& receiver : scene.polygons) {
+    if (receiver.isLight) continue;
+    const auto beforeIt = change ? previous.find(receiver.id) : previous.end();
+    ReceiverData* before = beforeIt != previous.end() ? &beforeIt->second : nullptr;
+    const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
     std::vector<std::pair<Vec3, Vec3>>& eee = eeeOnReceiver[receiver.id];
+    const bool sameEee = before && before->eeeInputs == eee;
+    std::vector<DiscontinuitySegment> segments;
+    ReceiverMesh::Renaming renamed;
+    // A receiver no changed piece reaches, whose own events are the same, takes its inputs of
+    // the frame before (renamed) instead of assembling them: the same segments, so its mesh is
+    // kept (below) as a comparison of assembled inputs would keep it.
+    const bool carried =
+        sameEee && !moved && !change->movesLight() && !piecesChanged[size_t(receiver.id)] &&
+        !planeEventsMayChange(receiver) &&
+        carriedInputs(before->inputs, newIdOf, perReceiver[receiver.id].size(), segments, renamed);
+    if (carried) {
+      ++stats_.carriedInputs;
+      countOwnEvents(segments);
+    } else {
+      // Segments end where events meet, computed apart: extend their ends (see extended()). The
+      // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they
+      // are. An end is open when no other segment of its surface ends there: counted in one sorted
+      // list (a map of counts allocated a node per end, thousands on a floor, every frame).
+      using EndKey = std::pair<SurfaceId, std::array<double, 3>>;
+      const auto endKey = [](const DiscontinuitySegment& s, const Vec3& p) {
+        return EndKey{s.surface, std::array<double, 3>{p.x, p.y, p.z}};
+      };
+      const std::vector<DiscontinuitySegment>& onReceiver = perReceiver[receiver.id];
+      std::vector<EndKey> ends;
+      ends.reserve(2 * onReceiver.size());
+      for (const DiscontinuitySegment& segment : onReceiver) {
+        ends.push_back(endKey(segment, segment.p0));
+        ends.push_back(endKey(segment, segment.p1));
+      }
+      std::sort(ends.begin(), ends.end());
+      const auto isOpen = [&](const EndKey& key) {
+        const auto [from, to] = std::equal_range(ends.begin(), ends.end(), key);
+        return to - from == 1;
+      };
+      const double by = kSegmentExtension * diagonal;
+      segments.reserve(onReceiver.size());
+      for (const DiscontinuitySegment& segment : onReceiver) {
+        const bool open0 = isOpen(endKey(segment, segment.p0));
+        const bool open1 = isOpen(endKey(segment, segment.p1));
+        segments.push_back(extended(segment, open0 ? by : 0, open1 ? by : 0));
+      }
+      // Segments no surface makes are extended at both ends. Contact lines end exactly at occluder
+      // vertices where computed events start (the foot of an edge standing on the receiver): an
+      // event passing an ulp beside that end must still cross them.
+      const auto addExtended = [&](const std::vector<DiscontinuitySegment>& pieces,
+                                   long long& count) {
+        for (const DiscontinuitySegment& segment : pieces)
+          segments.push_back(extended(segment, by, by));
+        count += (long long)pieces.size();
+      };
+      for (PolygonId light : scene.lights) {
+        const WorldPolygon& lightPolygon = scene.polygons[light];
+        addExtended(lightPlaneSegments(receiver, lightPolygon, lightPlaneSurface(scene, light)),
+                    stats_.lightPlaneSegments);
+        addExtended(horizonSegments(*adjacency_, *grid_, receiver, lightPolygon,
+                                    horizonSurface(scene, light)),
+                    stats_.horizonSegments);
+      }
+      addExtended(contactSegments(scene, *grid_, receiver), stats_.contactSegments);
+    }
 
     // An update keeps what a full computation would compute again: a receiver's mesh where it
     // would be built from the same segments in the same order (and the same EEE polylines), or
     // else edits it locally into exactly the mesh those segments build (ReceiverMesh::update);
     // and a face's backprojections and verification where the face kept its boundary and
     // nothing moved into the cones they read (keepsFaceData).
-    const auto beforeIt = change ? previous.find(receiver.id) : previous.end();
-    ReceiverData* before = beforeIt != previous.end() ? &beforeIt->second : nullptr;
-    ReceiverMesh::Renaming renamed;
-    const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
-    const bool sameEee = before && before->eeeInputs == eee;
     const bool keepMesh =
-        sameEee && !moved && sameSegmentGeometry(before->inputs, segments, renamed);
+        carried || (sameEee && !moved && sameSegmentGeometry(before->inputs, segments, renamed));
     const bool editMesh = before && !moved && !keepMesh;
     const double snap = kSegmentSnap * diagonal;
     ReceiverData data = keepMesh

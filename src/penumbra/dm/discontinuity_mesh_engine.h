@@ -42,6 +42,9 @@ struct DmStats {
   // backprojections and verification were kept (same boundary, no moved bounds in their cones)
   // and recomputed: what an update's cost follows.
   long long keptMeshes = 0, rebuiltMeshes = 0, reusedFaces = 0, recomputedFaces = 0;
+  // Kept meshes whose inputs were carried over from the frame before (renamed) without being
+  // assembled again: no surface's pieces changed on the receiver, nor its own events.
+  long long carriedInputs = 0;
   // Receiver meshes an update edited (ReceiverMesh::update), the surfaces whose edges those edits
   // removed and inserted, and the edited meshes built again in one sweep (most pieces changed).
   long long editedMeshes = 0, removedSurfaces = 0, insertedSurfaces = 0, resweptMeshes = 0;
