@@ -617,7 +617,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     if (validRanges(lightEdge, first, second).empty()) return std::nullopt;
     return EeeCandidate{l, i, j, -1, false};
   };
-  FlatSet<std::uint64_t, IdentityHash> emitted;
+  FlatSet<std::uint64_t, IdentityHash> emitted(reuse ? reuse->before.emittedKeys : 0);
   const auto emit = [&](const EeeCandidate& c) {
     if (!emitted.insert(keyOf(c.lightEdge, c.a, c.b))) return;
     if (c.coplanar) {
@@ -665,6 +665,7 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     };
     surfaceCandidates(s, index, memo, reuse, find, emit);
   }
+  if (memo) memo->emittedKeys = std::max(memo->emittedKeys, emitted.size());
   return surfaces;
 }
 

@@ -97,6 +97,9 @@ struct EeeCandidateMemo {
   // second edge, polygon).
   std::map<std::array<int, 4>, std::vector<EeeCandidate>> byCrossing;
   long long keptCuts = 0, foundCuts = 0;  // cuts (and crossings) taken over, and examined
+  // The most distinct light-edge candidates one light's enumeration emitted: the next frame's
+  // set of them starts that large (growing it by doubling re-inserted every key several times).
+  size_t emittedKeys = 0;
 };
 // The frame before's memo and how to read it now (its per-surface entries are moved out as they
 // are taken over: each is taken by one surface at most).
