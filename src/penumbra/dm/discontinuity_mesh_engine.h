@@ -189,8 +189,10 @@ class DiscontinuityMeshEngine {
   // boundary keeps its backprojections and verification unless a moved object's old or new
   // bounds pass the occluder test of a cone they were computed with (keepsFaceData). What is
   // kept is what a full computation would compute again from the same inputs, and meshes are
-  // canonical, so the result is identical to build() (`shadows --mode verify`). Still global:
-  // enumerating the surfaces and the per-receiver segment lists (issue 16's next steps).
+  // canonical, so the result is identical to build() (`shadows --mode verify`). A receiver no
+  // changed surface piece reaches, whose own events (contacts, light planes, horizons) read no
+  // cell a moved object touched, takes its inputs over renamed without assembling them. Still
+  // global: enumerating, matching and filing every surface (issue 16's next steps).
   void update(const DynamicScene& scene, const SceneChange& change);
   // Conveniences that own a live scene of their own: keyframe pose `frame`, or a static posed
   // scene (tests, tools).
