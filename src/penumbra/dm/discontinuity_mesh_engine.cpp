@@ -41,11 +41,10 @@ double secondsSince(Clock::time_point t) {
 // that reusing them reads (castOrKeep, traceFrom).
 class TakenOnce {
  public:
-  // Items are added by index, 0, 1, 2, ...
-  void add(std::size_t hash, size_t index) {
-    entries_.push_back({hash, index});
-    if (hashOf_.size() <= index) hashOf_.resize(index + 1);
-    hashOf_[index] = hash;
+  // The next item (items are numbered 0, 1, 2, ... in the order added).
+  void add(std::size_t hash) {
+    entries_.push_back({hash, hashOf_.size()});
+    hashOf_.push_back(hash);
   }
   void seal() {
     std::sort(entries_.begin(), entries_.end());
@@ -85,6 +84,16 @@ SurfaceId lightPlaneSurface(const PosedScene& scene, PolygonId light) {
 }
 SurfaceId horizonSurface(const PosedScene& scene, PolygonId light) {
   return ReceiverMesh::kBoundary - 1 - 2 * SurfaceId(scene.polygons.size()) - light;
+}
+// Which of those a segment's surface id is, as the count in `stats` that tallies it (null for a
+// discontinuity surface's id or the boundary's).
+long long* ownEventCount(const PosedScene& scene, SurfaceId surface, DmStats& stats) {
+  if (surface >= ReceiverMesh::kBoundary) return nullptr;
+  const SurfaceId k = ReceiverMesh::kBoundary - 1 - surface;
+  const SurfaceId n = SurfaceId(scene.polygons.size());
+  return k < n       ? &stats.contactSegments
+         : k < 2 * n ? &stats.lightPlaneSegments
+                     : &stats.horizonSegments;
 }
 
 // Where other polygons meet the receiver's plane: contact lines (D0 discontinuities), e.g. the
@@ -280,6 +289,11 @@ std::size_t fanHash(const DiscontinuitySurface& s) {
   return h;
 }
 
+// Are two segments the same (geometry and receiver, bit for bit), whatever surface made them?
+bool sameGeometry(const DiscontinuitySegment& a, const DiscontinuitySegment& b) {
+  return a.receiver == b.receiver && a.p0 == b.p0 && a.p1 == b.p1 && a.u0 == b.u0 && a.u1 == b.u1;
+}
+
 // Do two receivers' inputs hold the same segments in the same order (geometry, bit for bit)? The
 // surfaces that made them may sit at other positions in this frame's list (surfaces before them
 // appeared or vanished): `renamed` gets each old id's new one where they differ, which must be one
@@ -295,8 +309,7 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
   for (size_t i = 0; i < now.size(); ++i) {
     const DiscontinuitySegment& a = before[i];
     const DiscontinuitySegment& b = now[i];
-    if (a.receiver != b.receiver || a.p0 != b.p0 || a.p1 != b.p1 || a.u0 != b.u0 || a.u1 != b.u1)
-      return false;
+    if (!sameGeometry(a, b)) return false;
     pairs.push_back({a.surface, b.surface});
   }
   std::sort(pairs.begin(), pairs.end());
@@ -317,12 +330,7 @@ bool sameSegmentGeometry(const std::vector<DiscontinuitySegment>& before,
 // Are two lists of a surface's visible pieces the same (geometry and receivers, bit for bit)?
 bool samePieces(const std::vector<DiscontinuitySegment>& before,
                 const std::vector<DiscontinuitySegment>& now) {
-  return before.size() == now.size() &&
-         std::equal(before.begin(), before.end(), now.begin(),
-                    [](const DiscontinuitySegment& a, const DiscontinuitySegment& b) {
-                      return a.receiver == b.receiver && a.p0 == b.p0 && a.p1 == b.p1 &&
-                             a.u0 == b.u0 && a.u1 == b.u1;
-                    });
+  return std::equal(before.begin(), before.end(), now.begin(), now.end(), sameGeometry);
 }
 
 // A receiver's inputs of the frame before under this frame's surface ids (`newIdOf`, by old id,
@@ -448,7 +456,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   surfaces_.reserve(previousSurfaces.size());
   TakenOnce previousByFan;
   for (size_t i = 0; i < previousSurfaces.size(); ++i)
-    previousByFan.add(fanHash(previousSurfaces[i]), i);
+    previousByFan.add(fanHash(previousSurfaces[i]));
   previousByFan.seal();
   std::vector<char> movedCells;
   if (change) {
@@ -626,7 +634,6 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // receivers' loop, carriedInputs).
   std::vector<char> piecesChanged(change ? scene.polygons.size() : 0, 0);
   std::vector<SurfaceId> newIdOf(change ? previousSurfaces.size() : 0, -1);
-  std::vector<char> visibleTaken(previousVisible.size(), 0);
   const auto markReceivers = [&](const std::vector<DiscontinuitySegment>& pieces) {
     for (const DiscontinuitySegment& piece : pieces) piecesChanged[size_t(piece.receiver)] = 1;
   };
@@ -638,18 +645,13 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         previousSurfaces[size_t(then)].hingePolygons == s.hingePolygons) {
       pieces = std::move(previousVisible[size_t(then)]);
       for (DiscontinuitySegment& segment : pieces) segment.surface = s.id;
-      if (change) {
-        visibleTaken[size_t(then)] = 1;
-        newIdOf[size_t(then)] = s.id;
-      }
+      if (change) newIdOf[size_t(then)] = s.id;
     } else {
       pieces = visibleSegments(s, posed_->polygons);
-      if (change && hadPieces && samePieces(previousVisible[size_t(then)], pieces)) {
-        visibleTaken[size_t(then)] = 1;
+      if (change && hadPieces && samePieces(previousVisible[size_t(then)], pieces))
         newIdOf[size_t(then)] = s.id;
-      } else if (change) {
+      else if (change)
         markReceivers(pieces);
-      }
     }
     for (const DiscontinuitySegment& segment : pieces) {
       ++stats_.visibleSegments;
@@ -692,13 +694,12 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   eeeTraces_.reserve(previousTraces.size());
   TakenOnce previousByKey;
   for (size_t i = 0; i < previousTraces.size(); ++i)
-    previousByKey.add(previousTraces[i].key.hash(), i);
+    previousByKey.add(previousTraces[i].key.hash());
   previousByKey.seal();
   const bool mayKeepTraces = change && !change->movesLight();
   // The frame before's EEE surfaces were numbered after its planar ones, in trace order.
   const size_t previousPlanar = newIdOf.size();
   if (change) newIdOf.resize(previousPlanar + previousTraces.size(), -1);
-  std::vector<char> traceTaken(previousTraces.size(), 0);
   // A trace reads only the polygons its lines cross (traceEeeSurface): none of them moved where
   // no moved object's old or new bounds (with a margin for the crossing's rounding) meet a line.
   std::vector<Box3> movedBounds;
@@ -728,7 +729,6 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         });
         if (then) {
           kept = &previousTraces[*then];
-          traceTaken[*then] = 1;
           newIdOf[previousPlanar + *then] = s.id;
         }
       }
@@ -812,8 +812,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   }
   stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing -
                                  stats_.surfacesCoplanarEdgeCrossing;
-  for (size_t i = 0; change && i < visibleTaken.size(); ++i)
-    if (!visibleTaken[i]) markReceivers(previousVisible[i]);
+  // The frame before's surfaces whose pieces no surface took over (visible_ holds a surface's
+  // pieces at its index).
+  for (size_t i = 0; change && i < std::min(previousPlanar, previousVisible.size()); ++i)
+    if (newIdOf[i] < 0) markReceivers(previousVisible[i]);
   for (size_t k = 0; k < eeeSurfaces_.size(); ++k)
     eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the
@@ -833,8 +835,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.keptCandidateCuts = eeeCandidates_.keptCuts;
   stats_.examinedCandidateCuts = eeeCandidates_.foundCuts;
   traceFrom(lightEdgeSurfaces, nullptr);
-  for (size_t i = 0; change && i < traceTaken.size(); ++i)
-    if (!traceTaken[i]) markReceivers(previousTraces[i].segments);
+  for (size_t i = 0; change && i < previousTraces.size(); ++i)
+    if (newIdOf[previousPlanar + i] < 0) markReceivers(previousTraces[i].segments);
   stats_.secondsEee = secondsSince(start);
 
   start = Clock::now();
@@ -859,17 +861,6 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                                      [&](int cell) { touched = touched || movedCells[cell] != 0; });
     return touched;
   };
-  // The receiver's own events among carried inputs, counted as assembling them counts them.
-  const auto countOwnEvents = [&](const std::vector<DiscontinuitySegment>& inputs) {
-    const SurfaceId n = SurfaceId(scene.polygons.size());
-    for (const DiscontinuitySegment& segment : inputs) {
-      if (segment.surface >= ReceiverMesh::kBoundary) continue;
-      const SurfaceId k = ReceiverMesh::kBoundary - 1 - segment.surface;
-      ++(k < n       ? stats_.contactSegments
-         : k < 2 * n ? stats_.lightPlaneSegments
-                     : stats_.horizonSegments);
-    }
-  };
   for (const WorldPolygon& receiver : scene.polygons) {
     if (receiver.isLight) continue;
     const auto beforeIt = change ? previous.find(receiver.id) : previous.end();
@@ -888,7 +879,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         carriedInputs(before->inputs, newIdOf, perReceiver[receiver.id].size(), segments, renamed);
     if (carried) {
       ++stats_.carriedInputs;
-      countOwnEvents(segments);
+      // Its own events counted as assembling them counts them.
+      for (const DiscontinuitySegment& segment : segments)
+        if (long long* count = ownEventCount(scene, segment.surface, stats_)) ++*count;
     } else {
       // Segments end where events meet, computed apart: extend their ends (see extended()). The
       // joints inside an EEE polyline are shared exactly by consecutive pieces and stay as they
