@@ -50,6 +50,9 @@ TEST(DmUpdate, KeyframeStepsEqualFullRecomputation) {
       // Most kept meshes are far from the mover: their inputs are carried over, not assembled.
       EXPECT_GT(s.carriedInputs, s.keptMeshes / 2) << name << " frame " << frame;
       EXPECT_LE(s.carriedInputs, s.keptMeshes) << name << " frame " << frame;
+      // Planes of parallel edges whose fans all kept their cuts take their surfaces over whole.
+      EXPECT_GT(s.keptParallelPlanes, 0) << name << " frame " << frame;
+      EXPECT_GT(s.examinedParallelPlanes, 0) << name << " frame " << frame;
       EXPECT_GT(s.reusedFaces, s.meshFaces / 10) << name << " frame " << frame;
       EXPECT_EQ(s.reusedFaces + s.recomputedFaces, s.meshFaces);
       expectEqualsFull(engine, live, std::string(name) + " frame " + std::to_string(frame));

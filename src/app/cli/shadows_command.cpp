@@ -44,6 +44,8 @@ nlohmann::json statsJson(const DmStats& s) {
             {"examined_non_emitter_vertices", s.examinedNonEmitterVertices},
             {"kept_coplanar_crossing_pairs", s.keptCoplanarPairs},
             {"examined_coplanar_crossing_pairs", s.examinedCoplanarPairs},
+            {"kept_parallel_crossing_planes", s.keptParallelPlanes},
+            {"examined_parallel_crossing_planes", s.examinedParallelPlanes},
             {"kept_occluder_planes", s.keptOccluderPlanes},
             {"examined_occluder_planes", s.examinedOccluderPlanes}}},
           {"surfaces",

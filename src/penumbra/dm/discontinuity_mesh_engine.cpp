@@ -50,6 +50,12 @@ class TakenOnce {
     std::sort(entries_.begin(), entries_.end());
     taken_.assign(hashOf_.size(), 0);
   }
+  // Takes the item if it is not taken yet.
+  bool take(size_t item) {
+    if (taken_[item]) return false;
+    takeItem(item);
+    return true;
+  }
   // An item of this hash, not taken yet, that `matches` (the one after the item taken last if
   // it does, else the first by index); taken now.
   template <class Matches>
@@ -504,6 +510,26 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     }
     castSurface(surface, *posed_, *grid_);
   };
+  // A surface that is the frame before's surface `then`, taken over whole (by an enumeration's
+  // memo) with its cast: kept, or recast with the moved polygons, as castOrKeep does.
+  std::vector<char> takenWhole;  // by index: hinge polygons and fan are the frame before's
+  const auto keepWhole = [&](DiscontinuitySurface& surface, size_t index, size_t then) {
+    if (previousIndex.size() <= index) {
+      previousIndex.resize(index + 1, -1);
+      keptCast.resize(index + 1, 0);
+    }
+    if (takenWhole.size() <= index) takenWhole.resize(index + 1, 0);
+    previousIndex[index] = int(then);
+    takenWhole[index] = 1;
+    if (std::any_of(surface.cells.begin(), surface.cells.end(),
+                    [&](int cell) { return movedCells[cell] != 0; })) {
+      recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
+      ++stats_.recastMovedCasts;
+    } else {
+      ++stats_.keptCasts;
+      keptCast[index] = 1;
+    }
+  };
   const PosedScene& scene = *posed_;
   reference_ = std::make_unique<ExactReference>(scene, grid_);
   std::unique_ptr<EdgeAdjacency> previousAdjacency = std::move(adjacency_);
@@ -642,7 +668,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     const int then = index < previousIndex.size() ? previousIndex[index] : -1;
     const bool hadPieces = then >= 0 && size_t(then) < previousVisible.size();
     if (hadPieces && keptCast[index] &&
-        previousSurfaces[size_t(then)].hingePolygons == s.hingePolygons) {
+        ((index < takenWhole.size() && takenWhole[index]) ||
+         previousSurfaces[size_t(then)].hingePolygons == s.hingePolygons)) {
       pieces = std::move(previousVisible[size_t(then)]);
       for (DiscontinuitySegment& segment : pieces) segment.surface = s.id;
       if (change) newIdOf[size_t(then)] = s.id;
@@ -766,11 +793,47 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
   // Planar surfaces made from what casting found: parallel-edge crossings and coplanar edges.
   std::vector<DiscontinuitySurface> afterCasting;
-  for (PolygonId light : options_.parallelEdgeCrossings ? scene.lights : std::vector<PolygonId>{})
+  // Their planes' surfaces are read from the frame before's where the planes' fans kept their
+  // casts (not when a light moved: every plane depends on it).
+  std::map<PolygonId, ParallelCrossingMemo> previousParallel = std::move(parallelCrossings_);
+  parallelCrossings_.clear();
+  std::vector<int> sameCutsAs;
+  // Per surface of afterCasting: the index of the frame before's surface it is, taken over whole
+  // (cast included), else -1.
+  std::vector<int> takenFrom;
+  std::vector<char> keptWhole;  // and whether its cast was not taken before
+  if (change && !change->movesLight()) {
+    sameCutsAs.assign(surfaces_.size(), -1);
+    for (size_t k = 0; k < surfaces_.size() && k < keptCast.size(); ++k)
+      if (keptCast[k]) sameCutsAs[k] = previousIndex[k];
+  }
+  for (PolygonId light : options_.parallelEdgeCrossings ? scene.lights : std::vector<PolygonId>{}) {
+    const auto before = previousParallel.find(light);
+    const std::optional<ParallelCrossingReuse> parallelReuse =
+        change && !change->movesLight() && before != previousParallel.end()
+            ? std::optional<ParallelCrossingReuse>(
+                  ParallelCrossingReuse{before->second, sameCutsAs, previousSurfaces, takenFrom})
+            : std::nullopt;
+    ParallelCrossingMemo& memo = parallelCrossings_[light];
     for (DiscontinuitySurface& s :
          parallelEdgeCrossingSurfaces(scene, *adjacency_, surfaces_, light,
-                                      SurfaceId(surfaces_.size() + afterCasting.size())))
+                                      SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
+                                      parallelReuse ? &*parallelReuse : nullptr))
       afterCasting.push_back(std::move(s));
+    takenFrom.resize(afterCasting.size(), -1);
+    // Taken now, before anything looks for casts by fan: one moved out whole matches nothing.
+    // Where another surface took its cast first, its cells and cuts were moved out: cast as any
+    // other.
+    for (size_t k = keptWhole.size(); k < afterCasting.size(); ++k) {
+      keptWhole.push_back(takenFrom[k] >= 0 && previousByFan.take(size_t(takenFrom[k])));
+      if (takenFrom[k] >= 0 && !keptWhole[k]) {
+        afterCasting[k].cells.clear();
+        afterCasting[k].intersections.clear();
+      }
+    }
+    stats_.keptParallelPlanes += memo.keptPlanes;
+    stats_.examinedParallelPlanes += memo.examinedPlanes;
+  }
   stats_.surfacesParallelEdgeCrossing = int(afterCasting.size());
   for (PolygonId light : eeeLights) {
     std::vector<CoplanarEdgePair> pairs;
@@ -802,8 +865,13 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // The parallel-edge and coplanar-edge fans are planar surfaces like the EV ones (made from the
   // EV fans' stored intersections and the EEE pairs): cast, clipped by visibility,
   // numbered after them; the EEE surfaces are numbered after all planar ones.
-  for (DiscontinuitySurface& s : afterCasting) {
-    castOrKeep(s, surfaces_.size());
+  keptWhole.resize(afterCasting.size(), 0);
+  for (size_t k = 0; k < afterCasting.size(); ++k) {
+    DiscontinuitySurface& s = afterCasting[k];
+    if (keptWhole[k])
+      keepWhole(s, surfaces_.size(), size_t(takenFrom[k]));
+    else
+      castOrKeep(s, surfaces_.size());
     stats_.storedIntersections += (long long)s.intersections.size();
     stats_.surfaceCellBytes += s.cells.capacity() * sizeof(int);
     stats_.intersectionBytes += s.intersections.capacity() * sizeof(SurfaceIntersection);
@@ -1048,6 +1116,12 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
       for (const auto& [polygon, surfaces] : pair.entries)
         bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
     }
+  for (const auto& [light, memo] : parallelCrossings_) {
+    bytes += memo.byFirstFan.capacity() * sizeof(memo.byFirstFan[0]);
+    for (const ParallelCrossingMemo::Plane& plane : memo.planes)
+      bytes += sizeof(plane) + plane.polygons.capacity() * sizeof(PolygonId) +
+               plane.fans.capacity() * sizeof(size_t);
+  }
   for (const auto& pieces : visible_)
     bytes += sizeof(pieces) + pieces.capacity() * sizeof(DiscontinuitySegment);
   for (const EeeTrace& trace : eeeTraces_)

@@ -66,6 +66,9 @@ struct DmStats {
   // Pairs of coplanar edges whose crossing surfaces were taken over (the pair and the polygons in
   // its region's cells unchanged, moved ones examined again), and those examined.
   long long keptCoplanarPairs = 0, examinedCoplanarPairs = 0;
+  // Planes of a light edge and a parallel occluder edge whose crossing surfaces were taken over
+  // (their fans' cuts all kept), and those examined.
+  long long keptParallelPlanes = 0, examinedParallelPlanes = 0;
   // Polygons whose planes' crossing surfaces (occluder plane × occluder edge) were taken over
   // (the polygon and the polygons in its region's cells unchanged, moved ones examined again),
   // and those examined.
@@ -397,6 +400,7 @@ class DiscontinuityMeshEngine {
   std::map<PolygonId, NonEmitterEvMemo> nonEmitter_;             // by light, ditto
   std::map<PolygonId, OccluderPlaneMemo> occluderPlanes_;        // by light, ditto
   std::map<PolygonId, CoplanarCrossingMemo> coplanarCrossings_;  // by light, ditto
+  std::map<PolygonId, ParallelCrossingMemo> parallelCrossings_;  // by light, ditto
   std::map<PolygonId, ReceiverData> receivers_;
   DmStats stats_;
 };

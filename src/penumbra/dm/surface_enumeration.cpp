@@ -627,25 +627,23 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
 
 std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
-    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId) {
+    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId,
+    ParallelCrossingMemo* memo, const ParallelCrossingReuse* reuse) {
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   const size_t n = lv.size();
-  // The points X of each (light edge, occluder edge) plane. Both light vertices of the light edge
-  // have a fan of that plane, and each finds X against its own bounded fan, a rounding apart; an
-  // edge crossing the plane gives X once for each of its polygons. One fan per X, with all of
-  // them as hinge polygons (a polygon through X left out would cut the lines there).
-  // Every crossing found, as a flat list sorted by its point's key afterwards (a map allocated a
-  // node and a list per crossing, every frame, for the thousands of an axis-aligned room).
-  using Key = std::tuple<size_t, EdgeId, long long, long long, long long>;
-  struct Found {
-    Key key;
-    Vec3 x, a, b;
-    PolygonId polygon;
+  // The planes of a light edge and an occluder edge, each with its fans in order: a fan of light
+  // vertex i and occluder edge E gives the planes of E with the light edges i - 1 and i where E
+  // lies in one plane with them. Sorted by light edge then occluder edge (stable: the fans of a
+  // plane stay in their order).
+  struct FanOfPlane {
+    size_t lightEdge = 0;
+    EdgeId edge = 0;
+    size_t fan = 0;
   };
-  const double apart = 1e-9 * scene.extent.diagonalLength();
-  std::vector<Found> found;
-  for (const DiscontinuitySurface& fan : evSurfaces) {
+  std::vector<FanOfPlane> fansOfPlanes;
+  for (size_t k = 0; k < evSurfaces.size(); ++k) {
+    const DiscontinuitySurface& fan = evSurfaces[k];
     if (fan.light != light || fan.kind != SurfaceKind::kEmitterVertexOccluderEdge) continue;
     const SceneEdge& edge = adjacency.edges()[fan.occluderFeature];
     const auto front = partInFront(adjacency, edge, lightPolygon.plane);
@@ -661,59 +659,137 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
       // still makes one, through the other end.
       if (squaredLength(cross(s1 - s0, a - s0)) == 0 && squaredLength(cross(s1 - s0, b - s0)) == 0)
         continue;
-      for (const SurfaceIntersection& cut : fan.intersections) {
-        if (std::count(edge.polygons.begin(), edge.polygons.end(), cut.polygon)) continue;
-        for (int end = 0; end < 2; ++end) {
-          if (!(end == 0 ? cut.boundaryAt0 : cut.boundaryAt1)) continue;
-          const Vec3 x = end == 0 ? cut.p0 : cut.p1;
-          if (lightPolygon.plane.signedDistance(x) <= 0) continue;
-          found.push_back({{lightEdge, EdgeId(fan.occluderFeature), std::llround(x.x / apart),
-                            std::llround(x.y / apart), std::llround(x.z / apart)},
-                           x,
-                           a,
-                           b,
-                           cut.polygon});
+      fansOfPlanes.push_back({lightEdge, EdgeId(fan.occluderFeature), k});
+    }
+  }
+  std::stable_sort(fansOfPlanes.begin(), fansOfPlanes.end(),
+                   [](const FanOfPlane& p, const FanOfPlane& q) {
+                     return std::tie(p.lightEdge, p.edge) < std::tie(q.lightEdge, q.edge);
+                   });
+  // The frame before's plane with the same light edge and occluder edge whose fans are, in order,
+  // those these fans have the cuts of.
+  const auto keptPlane = [&](size_t lightEdge, const SceneEdge& edge, size_t begin,
+                             size_t end) -> std::optional<size_t> {
+    if (!reuse) return std::nullopt;
+    const auto sameCutsAs = [&](size_t j) {
+      const size_t fan = fansOfPlanes[j].fan;
+      return fan < reuse->sameCutsAs.size() ? reuse->sameCutsAs[fan] : -1;
+    };
+    const int first = sameCutsAs(begin);
+    if (first < 0) return std::nullopt;
+    const auto& byFirstFan = reuse->before.byFirstFan;
+    for (auto it = std::lower_bound(byFirstFan.begin(), byFirstFan.end(),
+                                    std::pair<size_t, size_t>{size_t(first), 0});
+         it != byFirstFan.end() && it->first == size_t(first); ++it) {
+      const ParallelCrossingMemo::Plane& plane = reuse->before.planes[it->second];
+      if (plane.lightEdge != int(lightEdge) || plane.fans.size() != end - begin ||
+          plane.a != adjacency.position(edge.a) || plane.b != adjacency.position(edge.b) ||
+          plane.polygons != edge.polygons)
+        continue;
+      bool same = true;
+      for (size_t j = begin; same && j < end; ++j)
+        same = sameCutsAs(j) == int(plane.fans[j - begin]);
+      if (same) return it->second;
+    }
+    return std::nullopt;
+  };
+  const double apart = 1e-9 * scene.extent.diagonalLength();
+  std::vector<DiscontinuitySurface> surfaces;
+  for (size_t begin = 0; begin < fansOfPlanes.size();) {
+    const size_t lightEdge = fansOfPlanes[begin].lightEdge;
+    const EdgeId edgeId = fansOfPlanes[begin].edge;
+    size_t end = begin;
+    while (end < fansOfPlanes.size() && fansOfPlanes[end].lightEdge == lightEdge &&
+           fansOfPlanes[end].edge == edgeId)
+      ++end;
+    const SceneEdge& edge = adjacency.edges()[edgeId];
+    const SurfaceId first = firstId + SurfaceId(surfaces.size());
+    if (const std::optional<size_t> kept = keptPlane(lightEdge, edge, begin, end)) {
+      // Distinct fans have the cuts of distinct fans of the frame before, and two planes share
+      // no fan with the same light edge: no plane of the frame before is taken twice.
+      const ParallelCrossingMemo::Plane& before = reuse->before.planes[*kept];
+      for (SurfaceId id = before.first; id < before.first + before.count; ++id) {
+        surfaces.push_back(std::move(reuse->surfacesBefore[size_t(id)]));
+        surfaces.back().id = firstId + SurfaceId(surfaces.size() - 1);
+        surfaces.back().occluderFeature = edgeId;
+        reuse->takenFrom.push_back(int(id));
+      }
+      if (memo) ++memo->keptPlanes;
+    } else {
+      if (memo) ++memo->examinedPlanes;
+      const auto [a, b] = *partInFront(adjacency, edge, lightPolygon.plane);
+      // The points X of the plane. Both light vertices of the light edge have a fan of that
+      // plane, and each finds X against its own bounded fan, a rounding apart; an edge crossing
+      // the plane gives X once for each of its polygons. One fan per X, with all of them as hinge
+      // polygons (a polygon through X left out would cut the lines there). Every crossing found,
+      // as a flat list sorted by its point's key (stable: a crossing's point is the one found
+      // first, its polygons in the order found).
+      using Key = std::array<long long, 3>;
+      struct Found {
+        Key key;
+        Vec3 x;
+        PolygonId polygon;
+      };
+      std::vector<Found> found;
+      for (size_t j = begin; j < end; ++j)
+        for (const SurfaceIntersection& cut : evSurfaces[fansOfPlanes[j].fan].intersections) {
+          if (std::count(edge.polygons.begin(), edge.polygons.end(), cut.polygon)) continue;
+          for (int side = 0; side < 2; ++side) {
+            if (!(side == 0 ? cut.boundaryAt0 : cut.boundaryAt1)) continue;
+            const Vec3 x = side == 0 ? cut.p0 : cut.p1;
+            if (lightPolygon.plane.signedDistance(x) <= 0) continue;
+            found.push_back(
+                {{std::llround(x.x / apart), std::llround(x.y / apart), std::llround(x.z / apart)},
+                 x,
+                 cut.polygon});
+          }
+        }
+      std::stable_sort(found.begin(), found.end(),
+                       [](const Found& p, const Found& q) { return p.key < q.key; });
+      const Vec3 &s0 = lv[lightEdge], &s1 = lv[(lightEdge + 1) % n];
+      // The common plane, through the end of the occluder edge farther from the light edge's
+      // line.
+      const Vec3 ma = cross(s1 - s0, a - s0), mb = cross(s1 - s0, b - s0);
+      const Vec3 m = squaredLength(ma) >= squaredLength(mb) ? ma : mb;
+      for (size_t k = 0; k < found.size();) {
+        const Found& x = found[k];
+        std::vector<PolygonId> polygons;
+        for (; k < found.size() && found[k].key == x.key; ++k)
+          if (!std::count(polygons.begin(), polygons.end(), found[k].polygon))
+            polygons.push_back(found[k].polygon);
+        for (const auto& [w0, w1] : separatingRanges(s0, s1, x.x, a, b, m)) {
+          DiscontinuitySurface s;
+          s.id = firstId + SurfaceId(surfaces.size());
+          s.kind = SurfaceKind::kLightEdgeParallelEdgeCrossing;
+          s.light = light;
+          s.lightFeature = int(lightEdge);
+          s.occluderFeature = edgeId;
+          s.secondFeature = polygons.front();
+          s.hingePolygons = edge.polygons;
+          s.hingePolygons.insert(s.hingePolygons.end(), polygons.begin(), polygons.end());
+          s.fan = {s0 + (s1 - s0) * w0, s0 + (s1 - s0) * w1, x.x, x.x, {{a, b}}};
+          surfaces.push_back(std::move(s));
+          if (reuse) reuse->takenFrom.push_back(-1);
         }
       }
     }
-  }
-  // Stable: a crossing's point and ends are those found first, its polygons in the order found.
-  std::stable_sort(found.begin(), found.end(),
-                   [](const Found& p, const Found& q) { return p.key < q.key; });
-  struct Crossing {
-    size_t lightEdge = 0;
-    EdgeId edge = 0;
-    Vec3 x, a, b;
-    std::vector<PolygonId> polygons;
-  };
-  std::vector<Crossing> crossings;
-  for (size_t k = 0; k < found.size();) {
-    const Found& first = found[k];
-    Crossing c{std::get<0>(first.key), std::get<1>(first.key), first.x, first.a, first.b, {}};
-    for (; k < found.size() && found[k].key == first.key; ++k)
-      if (!std::count(c.polygons.begin(), c.polygons.end(), found[k].polygon))
-        c.polygons.push_back(found[k].polygon);
-    crossings.push_back(std::move(c));
-  }
-  std::vector<DiscontinuitySurface> surfaces;
-  for (const Crossing& c : crossings) {
-    const Vec3 &s0 = lv[c.lightEdge], &s1 = lv[(c.lightEdge + 1) % n];
-    // The common plane, through the end of the occluder edge farther from the light edge's line.
-    const Vec3 ma = cross(s1 - s0, c.a - s0), mb = cross(s1 - s0, c.b - s0);
-    const Vec3 m = squaredLength(ma) >= squaredLength(mb) ? ma : mb;
-    for (const auto& [w0, w1] : separatingRanges(s0, s1, c.x, c.a, c.b, m)) {
-      DiscontinuitySurface s;
-      s.id = firstId + SurfaceId(surfaces.size());
-      s.kind = SurfaceKind::kLightEdgeParallelEdgeCrossing;
-      s.light = light;
-      s.lightFeature = int(c.lightEdge);
-      s.occluderFeature = c.edge;
-      s.secondFeature = c.polygons.front();
-      s.hingePolygons = adjacency.edges()[c.edge].polygons;
-      s.hingePolygons.insert(s.hingePolygons.end(), c.polygons.begin(), c.polygons.end());
-      s.fan = {s0 + (s1 - s0) * w0, s0 + (s1 - s0) * w1, c.x, c.x, {{c.a, c.b}}};
-      surfaces.push_back(std::move(s));
+    if (memo) {
+      ParallelCrossingMemo::Plane made{int(lightEdge),
+                                       adjacency.position(edge.a),
+                                       adjacency.position(edge.b),
+                                       edge.polygons,
+                                       {},
+                                       first,
+                                       int(firstId + SurfaceId(surfaces.size()) - first)};
+      for (size_t j = begin; j < end; ++j) made.fans.push_back(fansOfPlanes[j].fan);
+      memo->planes.push_back(std::move(made));
     }
+    begin = end;
+  }
+  if (memo) {
+    for (size_t j = 0; j < memo->planes.size(); ++j)
+      memo->byFirstFan.push_back({memo->planes[j].fans.front(), j});
+    std::sort(memo->byFirstFan.begin(), memo->byFirstFan.end());
   }
   return surfaces;
 }

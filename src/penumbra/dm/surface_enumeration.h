@@ -110,8 +110,40 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
 // boundary crosses that plane (the ends of the fan's stored intersections), the lines of the plane
 // through X meeting the light edge and the occluder edge (SurfaceKind::
 // kLightEdgeParallelEdgeCrossing).
+// (The fans of one such plane are the light-vertex fans of its occluder edge at its light edge's
+// two vertices.)
+//
+// What it made from each plane, kept for the next frame. A plane's surfaces are a function of the
+// light, the light edge, the occluder edge (its ends and polygons) and its fans' cuts, in order.
+struct ParallelCrossingMemo {
+  struct Plane {
+    int lightEdge = 0;
+    Vec3 a, b;                        // the occluder edge's ends
+    std::vector<PolygonId> polygons;  // and polygons
+    std::vector<size_t> fans;         // the fans' indices among that frame's surfaces, in order
+    SurfaceId first = 0;              // the ids of the plane's surfaces in that frame: first,
+    int count = 0;                    // first + 1, ... (their indices among its surfaces)
+  };
+  std::vector<Plane> planes;
+  std::vector<std::pair<size_t, size_t>> byFirstFan;  // (a plane's first fan, the plane), sorted
+  long long keptPlanes = 0, examinedPlanes = 0;
+};
+// How to read the frame before's memo, offered when no light moved: a plane whose fans are, in
+// order, fans of the frame before with the same cuts bit for bit, the fans of one plane of the
+// memo with the same light edge and occluder edge, takes that plane's surfaces over whole (their
+// casts included: they are the frame before's surfaces, renumbered).
+struct ParallelCrossingReuse {
+  const ParallelCrossingMemo& before;
+  // Per surface of this frame (an index into evSurfaces): the index in the frame before of the
+  // surface with the same fan whose cuts it has, bit for bit; else -1.
+  const std::vector<int>& sameCutsAs;
+  std::vector<DiscontinuitySurface>& surfacesBefore;  // the frame before's: those taken moved out
+  std::vector<int>& takenFrom;  // per surface returned: its index in the frame before, else -1
+};
+
 std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency,
-    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId);
+    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId,
+    ParallelCrossingMemo* memo = nullptr, const ParallelCrossingReuse* reuse = nullptr);
 
 }  // namespace penumbra
