@@ -802,6 +802,20 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // (cast included), else -1.
   std::vector<int> takenFrom;
   std::vector<char> keptWhole;  // and whether its cast was not taken before
+  // Marks the surfaces of afterCasting taken over whole since the last call (takenFrom holds
+  // them, or nothing past the last call) as taken, before anything looks for casts by fan: one
+  // moved out whole matches nothing. Where another surface took its cast first, its cells and
+  // cuts were moved out: cast as any other.
+  const auto markTakenWhole = [&] {
+    takenFrom.resize(afterCasting.size(), -1);
+    for (size_t k = keptWhole.size(); k < afterCasting.size(); ++k) {
+      keptWhole.push_back(takenFrom[k] >= 0 && previousByFan.take(size_t(takenFrom[k])));
+      if (takenFrom[k] >= 0 && !keptWhole[k]) {
+        afterCasting[k].cells.clear();
+        afterCasting[k].intersections.clear();
+      }
+    }
+  };
   if (change && !change->movesLight()) {
     sameCutsAs.assign(surfaces_.size(), -1);
     for (size_t k = 0; k < surfaces_.size() && k < keptCast.size(); ++k)
@@ -820,17 +834,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                                       SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
                                       parallelReuse ? &*parallelReuse : nullptr))
       afterCasting.push_back(std::move(s));
-    takenFrom.resize(afterCasting.size(), -1);
-    // Taken now, before anything looks for casts by fan: one moved out whole matches nothing.
-    // Where another surface took its cast first, its cells and cuts were moved out: cast as any
-    // other.
-    for (size_t k = keptWhole.size(); k < afterCasting.size(); ++k) {
-      keptWhole.push_back(takenFrom[k] >= 0 && previousByFan.take(size_t(takenFrom[k])));
-      if (takenFrom[k] >= 0 && !keptWhole[k]) {
-        afterCasting[k].cells.clear();
-        afterCasting[k].intersections.clear();
-      }
-    }
+    markTakenWhole();
     stats_.keptParallelPlanes += memo.keptPlanes;
     stats_.examinedParallelPlanes += memo.examinedPlanes;
   }
@@ -846,10 +850,11 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     if (!options_.coplanarEdgeCrossings) continue;
     // Offered on the non-emitter enumeration's terms: the same polygons, edges and light.
     const auto before = previousCoplanar.find(light);
+    takenFrom.resize(afterCasting.size(), -1);
     const std::optional<CoplanarCrossingReuse> coplanarReuse =
         staticUnchanged && before != previousCoplanar.end()
-            ? std::optional<CoplanarCrossingReuse>(
-                  CoplanarCrossingReuse{before->second, unchanged->edges, movedIds})
+            ? std::optional<CoplanarCrossingReuse>(CoplanarCrossingReuse{
+                  before->second, unchanged->edges, movedIds, previousSurfaces, takenFrom})
             : std::nullopt;
     CoplanarCrossingMemo& memo = coplanarCrossings_[light];
     for (DiscontinuitySurface& s :
@@ -859,6 +864,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       afterCasting.push_back(std::move(s));
       ++stats_.surfacesCoplanarEdgeCrossing;
     }
+    markTakenWhole();
     stats_.keptCoplanarPairs += memo.keptPairs;
     stats_.examinedCoplanarPairs += memo.examinedPairs;
   }
@@ -1111,11 +1117,8 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
           bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
       }
   for (const auto& [light, memo] : coplanarCrossings_)
-    for (const CoplanarCrossingMemo::Pair& pair : memo.pairs) {
+    for (const CoplanarCrossingMemo::Pair& pair : memo.pairs)
       bytes += sizeof(pair) + pair.entries.capacity() * sizeof(pair.entries[0]);
-      for (const auto& [polygon, surfaces] : pair.entries)
-        bytes += surfaces.capacity() * sizeof(DiscontinuitySurface);
-    }
   for (const auto& [light, memo] : parallelCrossings_) {
     bytes += memo.byFirstFan.capacity() * sizeof(memo.byFirstFan[0]);
     for (const ParallelCrossingMemo::Plane& plane : memo.planes)

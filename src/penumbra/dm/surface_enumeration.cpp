@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <tuple>
+#include <utility>
 
 namespace penumbra {
 
@@ -122,6 +124,30 @@ void appendNumbered(const PolygonEntries& entries, SurfaceId firstId,
       s.id = firstId + SurfaceId(surfaces.size());
       surfaces.push_back(std::move(s));
     }
+}
+
+// Sorts the keys ascending and drops repeats: a least-significant-digit radix sort over the
+// 16-bit digits that vary among them (hundreds of thousands of keys every frame, which a
+// comparison sort took 3% of a large room's update to order).
+void sortUnique(std::vector<std::uint64_t>& keys) {
+  std::uint64_t all = ~std::uint64_t(0), any = 0;
+  for (const std::uint64_t key : keys) {
+    all &= key;
+    any |= key;
+  }
+  const std::uint64_t varying = all ^ any;
+  std::vector<std::uint64_t> sorted(keys.size());
+  std::vector<size_t> start(size_t(1) << 16);
+  for (int shift = 0; shift < 64; shift += 16) {
+    if (((varying >> shift) & 0xffffu) == 0) continue;
+    std::fill(start.begin(), start.end(), 0);
+    for (const std::uint64_t key : keys) ++start[(key >> shift) & 0xffffu];
+    size_t sum = 0;
+    for (size_t& s : start) sum += std::exchange(s, sum);
+    for (const std::uint64_t key : keys) sorted[start[(key >> shift) & 0xffffu]++] = key;
+    keys.swap(sorted);
+  }
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 }
 
 }  // namespace
@@ -497,10 +523,14 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
   // A pair comes once per light edge it was found with; its fans do not depend on the edge.
-  std::vector<std::pair<EdgeId, EdgeId>> unique;
-  for (const CoplanarEdgePair& pair : pairs) unique.push_back(std::minmax(pair.first, pair.second));
-  std::sort(unique.begin(), unique.end());
-  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+  // Ascending, as one key each (the lower edge's id in the high half).
+  std::vector<std::uint64_t> unique;
+  unique.reserve(pairs.size());
+  for (const CoplanarEdgePair& pair : pairs) {
+    const auto [low, high] = std::minmax(pair.first, pair.second);
+    unique.push_back(std::uint64_t(std::uint32_t(low)) << 32 | std::uint32_t(high));
+  }
+  sortUnique(unique);
   std::vector<DiscontinuitySurface> surfaces;
   // The pair that last examined each edge (a stamp, not a flag cleared per pair: clearing a
   // flag per edge of the scene for each of thousands of pairs was quadratic).
@@ -508,7 +538,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   int stamp = -1;
   if (memo) memo->pairs.clear();
   using Entries = PolygonEntries;
-  for (const auto& pair : unique) {
+  for (const std::uint64_t key : unique) {
+    const std::pair<EdgeId, EdgeId> pair{EdgeId(key >> 32), EdgeId(key & 0xffffffffu)};
     const EdgeId firstEdge = pair.first;
     const SceneEdge &first = adjacency.edges()[pair.first],
                     &second = adjacency.edges()[pair.second];
@@ -595,11 +626,29 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       if (entries.back().second.empty()) entries.pop_back();
     };
     ++stamp;
-    Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
-    CoplanarCrossingMemo::Pair* before = nullptr;
+    // The pair's surfaces, numbered on, by polygon: those found now, and those of the frame
+    // before taken over whole.
+    std::vector<SurfaceRun> runs;
+    const auto append = [&](PolygonId polygon, std::vector<DiscontinuitySurface>& found) {
+      runs.push_back({polygon, firstId + SurfaceId(surfaces.size()), int(found.size())});
+      for (DiscontinuitySurface& s : found) {
+        s.id = firstId + SurfaceId(surfaces.size());
+        surfaces.push_back(std::move(s));
+        if (reuse) reuse->takenFrom.push_back(-1);
+      }
+    };
+    const auto takeOver = [&](const SurfaceRun& run) {
+      runs.push_back({run.polygon, firstId + SurfaceId(surfaces.size()), run.count});
+      for (SurfaceId id = run.first; id < run.first + run.count; ++id) {
+        surfaces.push_back(std::move(reuse->surfacesBefore[size_t(id)]));
+        surfaces.back().id = firstId + SurfaceId(surfaces.size() - 1);
+        reuse->takenFrom.push_back(int(id));
+      }
+    };
+    const CoplanarCrossingMemo::Pair* before = nullptr;
     if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
         reuse->unchangedEdges[size_t(pair.second)]) {
-      auto& kept = reuse->before.pairs;
+      const auto& kept = reuse->before.pairs;
       const auto it = std::lower_bound(kept.begin(), kept.end(), pair,
                                        [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
                                          return std::pair(k.first, k.second) < p;
@@ -610,17 +659,28 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       // The same edges, light and region: the polygons that did not move are listed in the same
       // cells and give what they gave (sharing no edge with a moved one, they examine the same
       // edges first); a moved polygon listed in the region's cells now is examined again.
+      // Each pair of the frame before is read once (the pairs are unique).
       Entries moved;
       for (PolygonId id : reuse->movedPolygons)
         if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
-      entries = mergedWithMoved(std::move(before->entries), std::move(moved), reuse->movedPolygons);
+      size_t k = 0;
+      for (const SurfaceRun& run : before->entries) {
+        if (std::binary_search(reuse->movedPolygons.begin(), reuse->movedPolygons.end(),
+                               run.polygon))
+          continue;
+        for (; k < moved.size() && moved[k].first < run.polygon; ++k)
+          append(moved[k].first, moved[k].second);
+        takeOver(run);
+      }
+      for (; k < moved.size(); ++k) append(moved[k].first, moved[k].second);
       if (memo) ++memo->keptPairs;
     } else {
+      Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
       for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
+      for (auto& [id, found] : entries) append(id, found);
       if (memo) ++memo->examinedPairs;
     }
-    appendNumbered(entries, firstId, surfaces);
-    if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(entries)});
+    if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(runs)});
   }
   return surfaces;
 }

@@ -75,25 +75,36 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
                                                        const std::vector<CoplanarEdgePair>& pairs,
                                                        PolygonId light, SurfaceId firstId);
 
+// The surfaces one polygon gave an item in one frame: that frame's ids first, first + 1, ...
+// (their indices among its surfaces).
+struct SurfaceRun {
+  PolygonId polygon = 0;
+  SurfaceId first = 0;
+  int count = 0;
+};
+
 // What the coplanar-edge crossing enumeration found for each pair of edges, kept for the next
 // frame: by pair (ascending), the polygons listed in the pair's region whose edges, first
-// examined there, gave surfaces, with those surfaces (ids unset). A pair's surfaces are a
-// function of its two edges, the light and the polygons listed in the grid cells of its region.
+// examined there, gave surfaces, with those surfaces' ids. A pair's surfaces are a function of
+// its two edges, the light and the polygons listed in the grid cells of its region.
 struct CoplanarCrossingMemo {
   struct Pair {
     EdgeId first = 0, second = 0;
-    std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>> entries;
+    std::vector<SurfaceRun> entries;  // by polygon
   };
   std::vector<Pair> pairs;
   long long keptPairs = 0, examinedPairs = 0;
 };
 // How to read the frame before's memo, offered on the same terms as NonEmitterEvReuse: a pair
-// whose two edges are flagged in `unchangedEdges` keeps what the unmoved polygons gave it, and
-// the moved polygons (`movedPolygons`, ascending) listed in its region's cells are examined again.
+// whose two edges are flagged in `unchangedEdges` takes over whole (casts included) the surfaces
+// the unmoved polygons gave it, and the moved polygons (`movedPolygons`, ascending) listed in its
+// region's cells are examined again.
 struct CoplanarCrossingReuse {
-  CoplanarCrossingMemo& before;  // taken over: what it keeps is moved out
+  const CoplanarCrossingMemo& before;
   const std::vector<char>& unchangedEdges;
   const std::vector<PolygonId>& movedPolygons;
+  std::vector<DiscontinuitySurface>& surfacesBefore;  // the frame before's: those taken moved out
+  std::vector<int>& takenFrom;  // per surface returned: its index in the frame before, else -1
 };
 
 // For each pair's plane (each pair once, whatever its light edge) that cuts the light, and every
