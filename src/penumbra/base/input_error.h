@@ -1,7 +1,7 @@
 #pragma once
 // Errors caused by what a user gave us (a scene file, a points file, an option).
-// They carry a location so that messages read `file:line: problem` (pbrt style) and the CLI maps them
-// to exit code 2. Untrusted input never asserts: it throws InputError.
+// They carry a location so that messages read `file:line: problem` (pbrt style) and the CLI maps
+// them to exit code 2. Untrusted input never asserts: it throws InputError.
 
 #include <stdexcept>
 #include <string>

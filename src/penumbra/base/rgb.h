@@ -21,13 +21,13 @@ struct Rgb {
   constexpr bool operator==(const Rgb&) const = default;
 
   constexpr bool isBlack() const { return r == 0 && g == 0 && b == 0; }
-  constexpr double maxComponent() const {
-    return r > g ? (r > b ? r : b) : (g > b ? g : b);
-  }
+  constexpr double maxComponent() const { return r > g ? (r > b ? r : b) : (g > b ? g : b); }
   constexpr double average() const { return (r + g + b) / 3; }
   bool isFinite() const { return std::isfinite(r) && std::isfinite(g) && std::isfinite(b); }
 };
 
-constexpr Rgb operator*(double s, const Rgb& c) { return c * s; }
+constexpr Rgb operator*(double s, const Rgb& c) {
+  return c * s;
+}
 
 }  // namespace penumbra
