@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <memory>
 #include <random>
@@ -214,6 +215,25 @@ TEST(ReceiverMesh, NearlyCollinearSegmentsAreSnappedOntoOneLine) {
   ASSERT_TRUE(low && strip && high);
   EXPECT_NE(*low, *strip);
   EXPECT_NE(*strip, *high);
+}
+
+// The mesh is a function of the segments, not of their order. Two pieces nearly on one line, of
+// equal length and with equal offsets in doubles (an axis-aligned scene has many), one a few ulps
+// turned: which of them the other is snapped onto decides where their shared end lies, so the
+// choice goes by their doubles, never by which came first.
+TEST(ReceiverMesh, SnappingIsIndependentOfTheSegmentsOrder) {
+  // Turned by 16 ulps of y over its length, about its middle's height: its offset and angle
+  // round to the level one's.
+  const double y = 0.001;
+  double low = std::nextafter(y, 1.0), high = low;
+  for (int i = 0; i < 16; ++i) high = std::nextafter(high, 1.0);
+  const DiscontinuitySegment level{7, 0, {0.05, y, 0}, {0.85, y, 0}, 0, 1};
+  const DiscontinuitySegment turned{8, 0, {0.05, low, 0}, {0.85, high, 0}, 0, 1};
+  const DiscontinuitySegment crossing{9, 0, {0.5, 0, 0}, {0.5, 1, 0}, 0, 1};
+  ReceiverMesh first(unitSquareReceiver()), second(unitSquareReceiver());
+  first.insert({level, turned, crossing}, 1e-12);
+  second.insert({crossing, turned, level}, 1e-12);
+  expectSameMesh(first, second);
 }
 
 TEST(ReceiverMesh, RandomSegmentsKeepAreaAndLocateEverySample) {

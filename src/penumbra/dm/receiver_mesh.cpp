@@ -738,10 +738,14 @@ void snapNearlyCollinear(std::vector<Piece>& pieces, double tolerance) {
   }
   std::sort(lines.begin(), lines.end(),
             [](const Line& x, const Line& y) { return x.angle < y.angle; });
-  // The group's reference: an outline edge if one is in it (input geometry), else the longest.
+  // The group's reference: an outline edge if one is in it (input geometry), else the longest,
+  // and of equal ones the first by its segment's doubles: never by the order of the inputs
+  // (pieces of equal length abound in axis-aligned scenes, and which of two nearly collinear ones
+  // is the reference moves the other).
   const auto better = [&](const Line& x, const Line& y) {
     if (pieces[x.index].isOutline != pieces[y.index].isOutline) return pieces[x.index].isOutline;
-    return x.length > y.length;
+    if (x.length != y.length) return x.length > y.length;
+    return pieces[x.index].source.own < pieces[y.index].source.own;
   };
   constexpr double kAngle = 1e-9;
   for (size_t begin = 0; begin < lines.size();) {
