@@ -1107,6 +1107,8 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
     for (const CutCandidates& cut : surface.cuts)
       bytes += cut.found.capacity() * sizeof(EeeCandidate);
   }
+  for (const auto& [light, counted] : eeeCandidates_.byLight)
+    bytes += counted.counts.memoryBytes() + counted.keys.capacity() * sizeof(std::uint64_t);
   for (const auto& [key, found] : eeeCandidates_.byCrossing)
     bytes += sizeof(key) + found.capacity() * sizeof(EeeCandidate);
   for (const auto* memos : {&nonEmitter_, &occluderPlanes_})

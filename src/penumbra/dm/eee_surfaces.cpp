@@ -7,9 +7,11 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "penumbra/base/flat_set.h"
+#include "penumbra/base/sort_unique.h"
 #include "penumbra/dm/parameter_ranges.h"
 #include "penumbra/geometry/predicates.h"
 
@@ -523,38 +525,58 @@ bool generatorsUnchanged(const DiscontinuitySurface& s, const SurfaceCandidates&
 
 // The candidates of EV surface `index` (`s`), cut polygon by cut polygon in ascending order: taken
 // from the frame before where the generators and the polygon are unchanged, else found by
-// `find(polygon, found)`. Each is handed to `emit` in order and recorded in `memo`.
-template <class Find, class Emit>
+// `find(polygon, found)`, and recorded in `memo`. Those found are handed to `add`, and so are
+// those taken over where `addKept`; the frame before's candidates of its cuts not taken over, to
+// `remove`. The frame before's entry, where read, is left empty.
+template <class Find, class Add, class Remove>
 void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidateMemo* memo,
-                       const EeeCandidateReuse* reuse, Find&& find, Emit&& emit) {
+                       const EeeCandidateReuse* reuse, Find&& find, Add&& add, bool addKept,
+                       Remove&& remove) {
   SurfaceCandidates* before = nullptr;
-  if (reuse && index < reuse->previousIndex.size() && reuse->previousIndex[index] >= 0) {
+  if (reuse && index < reuse->previousIndex.size() && reuse->previousIndex[index] >= 0 &&
+      size_t(reuse->previousIndex[index]) < reuse->before.bySurface.size()) {
     SurfaceCandidates& then = reuse->before.bySurface[size_t(reuse->previousIndex[index])];
     if (generatorsUnchanged(s, then, reuse->unchanged)) before = &then;
   }
-  SurfaceCandidates now{s.kind, s.lightFeature, s.occluderFeature, s.secondFeature, {}};
+  const auto removeAll = [&](CutCandidates& cut) {
+    for (const EeeCandidate& candidate : cut.found) remove(candidate);
+    cut.found.clear();
+  };
+  SurfaceCandidates now{s.light, s.kind, s.lightFeature, s.occluderFeature, s.secondFeature, {}};
   size_t k = 0;
   for (size_t c = 0; c < s.intersections.size(); ++c) {
     const PolygonId polygon = s.intersections[c].polygon;
     // Cuts are in polygon order; a polygon cut twice gives the same candidates twice.
     if (c > 0 && s.intersections[c - 1].polygon == polygon) continue;
     CutCandidates cut{polygon, {}};
+    bool kept = false;
     if (before) {
-      while (k < before->cuts.size() && before->cuts[k].polygon < polygon) ++k;
-      if (k < before->cuts.size() && before->cuts[k].polygon == polygon &&
-          reuse->unchanged.polygons[size_t(polygon)]) {
-        cut.found = std::move(before->cuts[k].found);
-        if (memo) ++memo->keptCuts;
-      } else {
-        find(polygon, cut.found);
-        if (memo) ++memo->foundCuts;
+      for (; k < before->cuts.size() && before->cuts[k].polygon < polygon; ++k)
+        removeAll(before->cuts[k]);
+      if (k < before->cuts.size() && before->cuts[k].polygon == polygon) {
+        if (reuse->unchanged.polygons[size_t(polygon)]) {
+          cut.found = std::move(before->cuts[k].found);
+          kept = true;
+        } else {
+          removeAll(before->cuts[k]);
+        }
+        ++k;
       }
+    }
+    if (kept) {
+      if (memo) ++memo->keptCuts;
+      if (addKept)
+        for (const EeeCandidate& candidate : cut.found) add(candidate);
     } else {
       find(polygon, cut.found);
       if (memo) ++memo->foundCuts;
+      for (const EeeCandidate& candidate : cut.found) add(candidate);
     }
-    for (const EeeCandidate& candidate : cut.found) emit(candidate);
     if (memo) now.cuts.push_back(std::move(cut));
+  }
+  if (before) {
+    for (; k < before->cuts.size(); ++k) removeAll(before->cuts[k]);
+    before->cuts.clear();
   }
   if (memo) {
     if (memo->bySurface.size() <= index) memo->bySurface.resize(index + 1);
@@ -617,14 +639,33 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
     if (validRanges(lightEdge, first, second).empty()) return std::nullopt;
     return EeeCandidate{l, i, j, -1, false};
   };
-  FlatSet<std::uint64_t, IdentityHash> emitted(reuse ? reuse->before.emittedKeys : 0);
-  const auto emit = [&](const EeeCandidate& c) {
-    if (!emitted.insert(keyOf(c.lightEdge, c.a, c.b))) return;
-    if (c.coplanar) {
-      if (coplanar) coplanar->push_back({c.lightEdge, c.a, c.b});
-      return;
-    }
-    surfaces.push_back(surfaceOf(c, light, firstId + SurfaceId(surfaces.size())));
+  // Each candidate is counted by the cuts that list them, as a key ordered by (first edge,
+  // second edge, light edge). An update takes the light's counts over from the frame before (with
+  // them, what its memo read: else every cut is counted afresh) and counts the cuts that changed
+  // up or down; the keys whose count rose from zero or fell to it are `changed`.
+  if (adjacency.edges().size() >= (std::size_t(1) << 24) || lightEdges >= (1 << 15))
+    throw std::length_error("EEE enumeration: more than 2^24 occluder edges or 2^15 light edges");
+  const auto keyOfCandidate = [](const EeeCandidate& c) {
+    return std::uint64_t(std::uint32_t(c.a)) << 40 | std::uint64_t(std::uint32_t(c.b)) << 16 |
+           std::uint64_t(std::uint32_t(c.lightEdge)) << 1 | (c.coplanar ? 1u : 0u);
+  };
+  EeeCandidateMemo::Counted local;
+  EeeCandidateMemo::Counted& counted = memo ? memo->byLight[light] : local;
+  if (reuse) {
+    const auto before = reuse->before.byLight.find(light);
+    if (before != reuse->before.byLight.end())
+      counted = std::move(before->second);
+    else
+      reuse = nullptr;
+  }
+  std::vector<std::uint64_t> changed;
+  const auto add = [&](const EeeCandidate& c) {
+    const std::uint64_t key = keyOfCandidate(c);
+    if (counted.counts.add(key)) changed.push_back(key);
+  };
+  const auto remove = [&](const EeeCandidate& c) {
+    const std::uint64_t key = keyOfCandidate(c);
+    if (counted.counts.remove(key)) changed.push_back(key);
   };
   // Every range of critical lines ends on a line through a light vertex or an occluder edge's
   // endpoint (validRanges), and such a line lies in the emitter EV fan of that vertex, where the
@@ -663,9 +704,43 @@ std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
         }
       });
     };
-    surfaceCandidates(s, index, memo, reuse, find, emit);
+    surfaceCandidates(s, index, memo, reuse, find, add, false, remove);
   }
-  if (memo) memo->emittedKeys = std::max(memo->emittedKeys, emitted.size());
+  // The frame before's surfaces of this light that no surface read: their cuts' candidates are
+  // gone.
+  const auto counts = [](SurfaceKind kind) {
+    return kind == SurfaceKind::kEmitterVertexOccluderEdge ||
+           kind == SurfaceKind::kEmitterEdgeOccluderVertex ||
+           kind == SurfaceKind::kLightEdgeOccluderPlane;
+  };
+  if (reuse)
+    for (SurfaceCandidates& gone : reuse->before.bySurface)
+      if (gone.light == light && counts(gone.kind)) {
+        for (CutCandidates& cut : gone.cuts)
+          for (const EeeCandidate& candidate : cut.found) remove(candidate);
+        gone.cuts.clear();
+      }
+  // The keys counted: those of the frame before, with the changed ones in or out by their count.
+  sortUnique(changed);
+  std::vector<std::uint64_t> keys;
+  keys.reserve(counted.keys.size() + changed.size());
+  size_t i = 0;
+  for (const std::uint64_t key : changed) {
+    for (; i < counted.keys.size() && counted.keys[i] < key; ++i) keys.push_back(counted.keys[i]);
+    if (i < counted.keys.size() && counted.keys[i] == key) ++i;
+    if (counted.counts.count(key) > 0) keys.push_back(key);
+  }
+  keys.insert(keys.end(), counted.keys.begin() + std::ptrdiff_t(i), counted.keys.end());
+  counted.keys = std::move(keys);
+  for (const std::uint64_t key : counted.keys) {
+    const EeeCandidate c{int((key >> 1) & 0x7fffu), EdgeId(key >> 40),
+                         EdgeId((key >> 16) & 0xffffffu), -1, (key & 1u) != 0};
+    if (c.coplanar) {
+      if (coplanar) coplanar->push_back({c.lightEdge, c.a, c.b});
+      continue;
+    }
+    surfaces.push_back(surfaceOf(c, light, firstId + SurfaceId(surfaces.size())));
+  }
   return surfaces;
 }
 
@@ -749,7 +824,7 @@ std::vector<EeeSurface> enumerateOccluderEeeSurfaces(
         [&](PolygonId polygon, std::vector<EeeCandidate>& found) {
           findAll(pairs, polygon, found);
         },
-        emit);
+        emit, true, [](const EeeCandidate&) {});
   }
   // Ranges ending on a line through a light edge: that line belongs to a light-edge surface,
   // whose lines on one side of it cross the third edge's polygon.

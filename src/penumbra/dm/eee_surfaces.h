@@ -16,11 +16,13 @@
 // by recomputing the backprojection at points within that distance (see DiscontinuityMeshEngine).
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <utility>
 #include <vector>
 
+#include "penumbra/base/key_counts.h"
 #include "penumbra/dm/discontinuity_surface.h"
 #include "penumbra/dm/edge_adjacency.h"
 #include "penumbra/dm/surface_enumeration.h"
@@ -87,6 +89,7 @@ struct CutCandidates {
   std::vector<EeeCandidate> found;  // in the order enumeration meets them
 };
 struct SurfaceCandidates {
+  PolygonId light = -1;
   SurfaceKind kind = SurfaceKind::kEmitterVertexOccluderEdge;
   int lightFeature = 0, occluderFeature = 0, secondFeature = -1;  // the surface's generators
   std::vector<CutCandidates> cuts;                                // by cut polygon, ascending
@@ -97,9 +100,15 @@ struct EeeCandidateMemo {
   // second edge, polygon).
   std::map<std::array<int, 4>, std::vector<EeeCandidate>> byCrossing;
   long long keptCuts = 0, foundCuts = 0;  // cuts (and crossings) taken over, and examined
-  // The most distinct light-edge candidates one light's enumeration emitted: the next frame's
-  // set of them starts that large (growing it by doubling re-inserted every key several times).
-  size_t emittedKeys = 0;
+  // Per light, its light-edge candidates (packed keys) counted by the cuts that list them, and
+  // the keys counted, ascending: an update counts the candidates of the cuts that changed up or
+  // down instead of listing every cut's again (the reference-counted candidates of Loscos &
+  // Drettakis), and the surfaces are the keys counted.
+  struct Counted {
+    KeyCounts counts;
+    std::vector<std::uint64_t> keys;
+  };
+  std::map<PolygonId, Counted> byLight;
 };
 // The frame before's memo and how to read it now (its per-surface entries are moved out as they
 // are taken over: each is taken by one surface at most).
@@ -114,12 +123,13 @@ struct EeeCandidateReuse {
 inline constexpr double kCoplanarEdgeTolerance = 1e-10;
 
 // Surfaces for every light edge and pair of silhouette-capable occluder edges (not sharing a
-// vertex) that some line meeting all three crosses in front of the light. The pairs come from the
-// emitter EV surfaces of `light` after casting: every range of such lines ends on a line of one of
-// their fans, where the other edge's polygon cuts it.
+// vertex) that some line meeting all three crosses in front of the light, in the order of their
+// (first edge, second edge, light edge). The pairs come from the emitter EV surfaces of `light`
+// after casting: every range of such lines ends on a line of one of their fans, where the other
+// edge's polygon cuts it.
 // With `coplanar`, the candidate pairs whose two edges are coplanar (their lines meeting the light
 // edge lie in one plane: no quadric; within kCoplanarEdgeTolerance) are appended there
-// (coplanarEdgeSurfaces builds their fans).
+// (coplanarEdgeSurfaces builds their fans), in the same order.
 std::vector<EeeSurface> enumerateEeeSurfaces(const PosedScene& scene,
                                              const EdgeAdjacency& adjacency,
                                              const std::vector<DiscontinuitySurface>& evSurfaces,

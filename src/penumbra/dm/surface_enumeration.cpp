@@ -1,5 +1,6 @@
 #include "penumbra/dm/surface_enumeration.h"
 
+#include "penumbra/base/sort_unique.h"
 #include "penumbra/dm/parameter_ranges.h"
 #include "penumbra/geometry/predicates.h"
 
@@ -124,30 +125,6 @@ void appendNumbered(const PolygonEntries& entries, SurfaceId firstId,
       s.id = firstId + SurfaceId(surfaces.size());
       surfaces.push_back(std::move(s));
     }
-}
-
-// Sorts the keys ascending and drops repeats: a least-significant-digit radix sort over the
-// 16-bit digits that vary among them (hundreds of thousands of keys every frame, which a
-// comparison sort took 3% of a large room's update to order).
-void sortUnique(std::vector<std::uint64_t>& keys) {
-  std::uint64_t all = ~std::uint64_t(0), any = 0;
-  for (const std::uint64_t key : keys) {
-    all &= key;
-    any |= key;
-  }
-  const std::uint64_t varying = all ^ any;
-  std::vector<std::uint64_t> sorted(keys.size());
-  std::vector<size_t> start(size_t(1) << 16);
-  for (int shift = 0; shift < 64; shift += 16) {
-    if (((varying >> shift) & 0xffffu) == 0) continue;
-    std::fill(start.begin(), start.end(), 0);
-    for (const std::uint64_t key : keys) ++start[(key >> shift) & 0xffffu];
-    size_t sum = 0;
-    for (size_t& s : start) sum += std::exchange(s, sum);
-    for (const std::uint64_t key : keys) sorted[start[(key >> shift) & 0xffffu]++] = key;
-    keys.swap(sorted);
-  }
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 }
 
 }  // namespace
