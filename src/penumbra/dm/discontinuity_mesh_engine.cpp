@@ -485,42 +485,14 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // Each surface's index in the frame before, where its cast was taken over (else -1).
   std::vector<int> previousIndex;
   std::vector<char> keptCast;  // and whether its cuts are all as they were
-  const auto castOrKeep = [&](DiscontinuitySurface& surface, size_t index) {
+  // Surface `index` holds the cast (cells and cuts) of the frame before's surface `then`: kept,
+  // or recast with the moved polygons where a moved object's old or new bounds overlap its cells.
+  const auto keepCast = [&](DiscontinuitySurface& surface, size_t index, size_t then) {
     if (previousIndex.size() <= index) {
       previousIndex.resize(index + 1, -1);
       keptCast.resize(index + 1, 0);
     }
-    // Taken: no other surface matches it.
-    const std::optional<size_t> then = previousByFan.take(
-        fanHash(surface), [&](size_t i) { return sameFan(previousSurfaces[i], surface); });
-    if (then) {
-      DiscontinuitySurface& before = previousSurfaces[*then];
-      surface.cells = std::move(before.cells);
-      surface.intersections = std::move(before.intersections);
-      previousIndex[index] = int(*then);
-      if (std::any_of(surface.cells.begin(), surface.cells.end(),
-                      [&](int cell) { return movedCells[cell] != 0; })) {
-        recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
-        ++stats_.recastMovedCasts;
-      } else {
-        ++stats_.keptCasts;
-        keptCast[index] = 1;
-      }
-      return;
-    }
-    castSurface(surface, *posed_, *grid_);
-  };
-  // A surface that is the frame before's surface `then`, taken over whole (by an enumeration's
-  // memo) with its cast: kept, or recast with the moved polygons, as castOrKeep does.
-  std::vector<char> takenWhole;  // by index: hinge polygons and fan are the frame before's
-  const auto keepWhole = [&](DiscontinuitySurface& surface, size_t index, size_t then) {
-    if (previousIndex.size() <= index) {
-      previousIndex.resize(index + 1, -1);
-      keptCast.resize(index + 1, 0);
-    }
-    if (takenWhole.size() <= index) takenWhole.resize(index + 1, 0);
     previousIndex[index] = int(then);
-    takenWhole[index] = 1;
     if (std::any_of(surface.cells.begin(), surface.cells.end(),
                     [&](int cell) { return movedCells[cell] != 0; })) {
       recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
@@ -529,6 +501,27 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       ++stats_.keptCasts;
       keptCast[index] = 1;
     }
+  };
+  const auto castOrKeep = [&](DiscontinuitySurface& surface, size_t index) {
+    // Taken: no other surface matches it.
+    const std::optional<size_t> then = previousByFan.take(
+        fanHash(surface), [&](size_t i) { return sameFan(previousSurfaces[i], surface); });
+    if (!then) {
+      castSurface(surface, *posed_, *grid_);
+      return;
+    }
+    DiscontinuitySurface& before = previousSurfaces[*then];
+    surface.cells = std::move(before.cells);
+    surface.intersections = std::move(before.intersections);
+    keepCast(surface, index, *then);
+  };
+  // A surface that is the frame before's surface `then`, taken over whole (by an enumeration's
+  // memo) with its cast.
+  std::vector<char> takenWhole;  // by index: hinge polygons and fan are the frame before's
+  const auto keepWhole = [&](DiscontinuitySurface& surface, size_t index, size_t then) {
+    if (takenWhole.size() <= index) takenWhole.resize(index + 1, 0);
+    takenWhole[index] = 1;
+    keepCast(surface, index, then);
   };
   const PosedScene& scene = *posed_;
   reference_ = std::make_unique<ExactReference>(scene, grid_);

@@ -180,8 +180,8 @@ class DiscontinuityMeshEngine {
   ~DiscontinuityMeshEngine();
 
   // Full computation at the current pose of a shared live scene (which must outlive the engine's
-  // use of it; InputError when it lies too far from the origin, requireResolves)
-  // use of it: the engine reads its posed scene and grid).
+  // use of it: the engine reads its posed scene and grid; InputError when it lies too far from
+  // the origin, requireResolves).
   void build(const DynamicScene& scene);
   // Brings the solution to the scene's new pose after `change` was applied to it (the scene built
   // from). Every discontinuity surface is enumerated again; a planar surface keeps its cast and
@@ -194,8 +194,12 @@ class DiscontinuityMeshEngine {
   // kept is what a full computation would compute again from the same inputs, and meshes are
   // canonical, so the result is identical to build() (`shadows --mode verify`). A receiver no
   // changed surface piece reaches, whose own events (contacts, light planes, horizons) read no
-  // cell a moved object touched, takes its inputs over renamed without assembling them. Still
-  // global: enumerating, matching and filing every surface (issue 16's next steps).
+  // cell a moved object touched, takes its inputs over renamed without assembling them. The
+  // fans made after casting (parallel-edge and coplanar-edge crossings) whose inputs are the
+  // frame before's take its surfaces over whole, casts included, and the light-edge EEE
+  // candidates are reference-counted by the cuts that list them: only the cuts that changed
+  // count. Still global: enumerating, matching and filing every surface, and listing the
+  // surfaces again from the counts (issue 16's next steps).
   void update(const DynamicScene& scene, const SceneChange& change);
   // Conveniences that own a live scene of their own: keyframe pose `frame`, or a static posed
   // scene (tests, tools).
