@@ -99,21 +99,33 @@ std::vector<std::array<double, 2>> pivotRanges(const Vec3& pivot, const Vec3& t0
 // Surfaces by the polygon whose edges gave them, in polygon order (what the memos keep).
 using PolygonEntries = std::vector<std::pair<PolygonId, std::vector<DiscontinuitySurface>>>;
 
-// A memo's entries from the frame before without those of the moved polygons (`movedPolygons`,
-// ascending), merged in polygon order with `moved`, the moved polygons' entries examined again:
-// the entries a fresh examination of every polygon would give, where the unmoved ones share no
-// edge with a moved one. The kept entries are moved out (each is read once, the frame after).
+// Walks a memo's entries from the frame before (`kept`, by polygon: `polygonOf` names an
+// entry's) without those of the moved polygons (`movedPolygons`, ascending), merged in polygon
+// order with `moved`, the moved polygons' entries examined again: the entries a fresh examination
+// of every polygon would give, where the unmoved ones share no edge with a moved one. Each is
+// handed, in that order, to `onKept` or `onMoved`.
+template <class Kept, class PolygonOf, class OnKept, class OnMoved>
+void forEachMergedWithMoved(Kept& kept, PolygonEntries& moved,
+                            const std::vector<PolygonId>& movedPolygons, PolygonOf&& polygonOf,
+                            OnKept&& onKept, OnMoved&& onMoved) {
+  size_t k = 0;
+  for (auto& entry : kept) {
+    const PolygonId polygon = polygonOf(entry);
+    if (std::binary_search(movedPolygons.begin(), movedPolygons.end(), polygon)) continue;
+    for (; k < moved.size() && moved[k].first < polygon; ++k) onMoved(moved[k]);
+    onKept(entry);
+  }
+  for (; k < moved.size(); ++k) onMoved(moved[k]);
+}
+
+// The entries forEachMergedWithMoved walks, as one list. The kept entries are moved out (each is
+// read once, the frame after).
 PolygonEntries mergedWithMoved(PolygonEntries&& kept, PolygonEntries moved,
                                const std::vector<PolygonId>& movedPolygons) {
   PolygonEntries entries;
-  size_t k = 0;
-  for (auto& entry : kept) {
-    if (std::binary_search(movedPolygons.begin(), movedPolygons.end(), entry.first)) continue;
-    for (; k < moved.size() && moved[k].first < entry.first; ++k)
-      entries.push_back(std::move(moved[k]));
-    entries.push_back(std::move(entry));
-  }
-  for (; k < moved.size(); ++k) entries.push_back(std::move(moved[k]));
+  const auto take = [&](auto& entry) { entries.push_back(std::move(entry)); };
+  forEachMergedWithMoved(
+      kept, moved, movedPolygons, [](const auto& entry) { return entry.first; }, take, take);
   return entries;
 }
 
@@ -125,6 +137,18 @@ void appendNumbered(const PolygonEntries& entries, SurfaceId firstId,
       s.id = firstId + SurfaceId(surfaces.size());
       surfaces.push_back(std::move(s));
     }
+}
+
+// Moves the frame before's surfaces first, first + 1, ... (`count` of them) whole, casts
+// included, onto `surfaces`, numbered on from firstId, and records where each came from.
+void takeOverRun(std::vector<DiscontinuitySurface>& surfacesBefore, SurfaceId first, int count,
+                 SurfaceId firstId, std::vector<DiscontinuitySurface>& surfaces,
+                 std::vector<int>& takenFrom) {
+  for (SurfaceId id = first; id < first + count; ++id) {
+    surfaces.push_back(std::move(surfacesBefore[size_t(id)]));
+    surfaces.back().id = firstId + SurfaceId(surfaces.size() - 1);
+    takenFrom.push_back(int(id));
+  }
 }
 
 }  // namespace
@@ -616,11 +640,7 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     };
     const auto takeOver = [&](const SurfaceRun& run) {
       runs.push_back({run.polygon, firstId + SurfaceId(surfaces.size()), run.count});
-      for (SurfaceId id = run.first; id < run.first + run.count; ++id) {
-        surfaces.push_back(std::move(reuse->surfacesBefore[size_t(id)]));
-        surfaces.back().id = firstId + SurfaceId(surfaces.size() - 1);
-        reuse->takenFrom.push_back(int(id));
-      }
+      takeOverRun(reuse->surfacesBefore, run.first, run.count, firstId, surfaces, reuse->takenFrom);
     };
     const CoplanarCrossingMemo::Pair* before = nullptr;
     if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
@@ -640,16 +660,10 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       Entries moved;
       for (PolygonId id : reuse->movedPolygons)
         if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
-      size_t k = 0;
-      for (const SurfaceRun& run : before->entries) {
-        if (std::binary_search(reuse->movedPolygons.begin(), reuse->movedPolygons.end(),
-                               run.polygon))
-          continue;
-        for (; k < moved.size() && moved[k].first < run.polygon; ++k)
-          append(moved[k].first, moved[k].second);
-        takeOver(run);
-      }
-      for (; k < moved.size(); ++k) append(moved[k].first, moved[k].second);
+      forEachMergedWithMoved(
+          before->entries, moved, reuse->movedPolygons,
+          [](const SurfaceRun& run) { return run.polygon; }, takeOver,
+          [&](auto& entry) { append(entry.first, entry.second); });
       if (memo) ++memo->keptPairs;
     } else {
       Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
@@ -745,12 +759,10 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
       // Distinct fans have the cuts of distinct fans of the frame before, and two planes share
       // no fan with the same light edge: no plane of the frame before is taken twice.
       const ParallelCrossingMemo::Plane& before = reuse->before.planes[*kept];
-      for (SurfaceId id = before.first; id < before.first + before.count; ++id) {
-        surfaces.push_back(std::move(reuse->surfacesBefore[size_t(id)]));
-        surfaces.back().id = firstId + SurfaceId(surfaces.size() - 1);
-        surfaces.back().occluderFeature = edgeId;
-        reuse->takenFrom.push_back(int(id));
-      }
+      takeOverRun(reuse->surfacesBefore, before.first, before.count, firstId, surfaces,
+                  reuse->takenFrom);
+      for (size_t k = surfaces.size() - size_t(before.count); k < surfaces.size(); ++k)
+        surfaces[k].occluderFeature = edgeId;
       if (memo) ++memo->keptPlanes;
     } else {
       if (memo) ++memo->examinedPlanes;
