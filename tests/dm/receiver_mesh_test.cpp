@@ -74,10 +74,6 @@ void expectSameMesh(const ReceiverMesh& a, const ReceiverMesh& b) {
   }
 }
 
-// An update is a local edit that must leave exactly the mesh a fresh build gives: random segment
-// sets where some segments stay (under new surface ids), some go and some come, including
-// overlapping collinear pieces, pieces ending on others, polylines and nearly collinear pairs
-// that snapping joins.
 // A square cut by a vertical line x = 0.5 (surface 3) and, on its right, a horizontal line y = 0.5
 // (surface 4) from the vertical one to the outline, plus an antenna (surface 5) dangling into the
 // left half: walks name exactly the events they cross.
@@ -132,6 +128,10 @@ TEST(ReceiverMesh, WalksCrossExactlyTheEdgesBetweenTheirEnds) {
   EXPECT_NEAR(near[0].intoOther.y, 0, 1e-15);
 }
 
+// An update is a local edit that must leave exactly the mesh a fresh build gives: random segment
+// sets where some segments stay (under new surface ids), some go and some come, including
+// overlapping collinear pieces, pieces ending on others, polylines and nearly collinear pairs
+// that snapping joins.
 TEST(ReceiverMesh, UpdateEqualsBuildingAgain) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.2, 1.2);
@@ -234,6 +234,62 @@ TEST(ReceiverMesh, SnappingIsIndependentOfTheSegmentsOrder) {
   first.insert({level, turned, crossing}, 1e-12);
   second.insert({crossing, turned, level}, 1e-12);
   expectSameMesh(first, second);
+}
+
+// A mesh keeps what snapping did to each piece from update to update (a function of the piece and
+// of its group's reference alone): families of pieces nearly on one line, a few ulps apart, whose
+// members come and go, so that a group's reference (its longest piece) changes and the others are
+// moved onto another line, and pieces leave and join groups. Edited at every step, the mesh is
+// the one built afresh.
+TEST(ReceiverMesh, UpdatesFollowTheSnappingOfGroupsWhoseMembersChange) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::uniform_int_distribution<int> ulps(-24, 24), coin(0, 2);
+  // Three families: a horizontal, a vertical and a slanted line, each piece a random stretch of
+  // its family's line, its ends nudged by a few ulps across it.
+  const auto nudged = [&](double x) {
+    for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) x = std::nextafter(x, k > 0 ? 2.0 : -2.0);
+    return x;
+  };
+  const auto randomPiece = [&](int family, SurfaceId id) -> DiscontinuitySegment {
+    double from = u(rng), to = u(rng);
+    if (from > to) std::swap(from, to);
+    to = std::max(to, from + 0.05);
+    switch (family) {
+      case 0:
+        return {id, 0, {from, nudged(0.375), 0}, {to, nudged(0.375), 0}, 0, 1};
+      case 1:
+        return {id, 0, {nudged(0.625), from, 0}, {nudged(0.625), to, 0}, 0, 1};
+      default:
+        return {id, 0, {from, nudged(0.1 + 0.7 * from), 0}, {to, nudged(0.1 + 0.7 * to), 0}, 0, 1};
+    }
+  };
+  std::vector<DiscontinuitySegment> segments;
+  SurfaceId id = 0;
+  for (int i = 0; i < 24; ++i) segments.push_back(randomPiece(i % 3, id++));
+  ReceiverMesh updated(unitSquareReceiver());
+  updated.insert(segments, 1e-12);
+  int snappingMattered = 0;
+  for (int step = 0; step < 16; ++step) {
+    std::vector<DiscontinuitySegment> next;
+    id = 1000 * (step + 1);  // every surface renumbered, as an update does
+    for (const DiscontinuitySegment& s : segments)
+      if (coin(rng) != 0) {
+        next.push_back(s);
+        next.back().surface = id++;
+      }
+    for (int i = 0; i < 4; ++i) next.push_back(randomPiece(i % 3, id++));
+    std::shuffle(next.begin(), next.end(), rng);
+    updated.update(next, 1e-12);
+    ReceiverMesh fresh(unitSquareReceiver()), raw(unitSquareReceiver());
+    fresh.insert(next, 1e-12);
+    raw.insert(next);
+    SCOPED_TRACE("step " + std::to_string(step));
+    expectSameMesh(updated, fresh);
+    snappingMattered += raw.vertexCount() != fresh.vertexCount() ? 1 : 0;
+    segments = next;
+  }
+  EXPECT_GT(snappingMattered, 8);  // the groups were snapped, not left as they came
 }
 
 TEST(ReceiverMesh, RandomSegmentsKeepAreaAndLocateEverySample) {
