@@ -290,6 +290,9 @@ class DiscontinuityMeshEngine {
     // no corner to check them at. No labels are computed; its irradiance is computed at each
     // query point. About half the faces of the furnished scenes are slivers.
     bool sliver = false;
+    // The box of its corners: a face an update finds again has the same boundary, and its keep
+    // test (keepsFaceData) starts from this box instead of walking the boundary again.
+    Box3 bounds;
     bool answersAtPoint() const { return unresolved || sliver; }
   };
   struct ReceiverData {
@@ -381,7 +384,7 @@ class DiscontinuityMeshEngine {
   // either frame that the other lacks)? Yes when it would be computed again
   // from the same inputs: the same corner probes, and no moved object's old or new bounds
   // admitted by the cone from the sample or a probe to any light.
-  bool keepsFaceData(const ReceiverData& now, const MeshFace& face,
+  bool keepsFaceData(const ReceiverData& now, const MeshFace& face, const FaceData& before,
                      const SegmentProximity& eeeBefore, const SegmentProximity& eeeChanged,
                      bool sameEee, const SceneChange& change) const;
   // The mesh and face statistics summed over the receivers.
