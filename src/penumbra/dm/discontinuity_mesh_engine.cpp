@@ -447,10 +447,10 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
 void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_ = {};
   stats_.recomputedAll = change == nullptr;
-  // The previous frame's receivers, offered for reuse when an update finds their inputs equal,
-  // stay where they are until each is replaced by its new data (nothing reads another
-  // receiver's data meanwhile): a map made again allocated a node per receiver every frame.
-  if (!change) receivers_.clear();
+  // The previous frame's receivers, offered for reuse when an update finds their inputs equal.
+  std::map<PolygonId, ReceiverData> previous;
+  if (change) previous = std::move(receivers_);
+  receivers_.clear();
   // The previous frame's planar surfaces, by their fan, and the grid cells a moved object's old
   // or new bounds overlap: a surface with the same fan as before whose cells none of those are
   // cuts the same polygons the same way (the paper's per-cell test), so its cast is kept.
@@ -930,8 +930,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   };
   for (const WorldPolygon& receiver : scene.polygons) {
     if (receiver.isLight) continue;
-    const auto beforeIt = change ? receivers_.find(receiver.id) : receivers_.end();
-    ReceiverData* before = beforeIt != receivers_.end() ? &beforeIt->second : nullptr;
+    const auto beforeIt = change ? previous.find(receiver.id) : previous.end();
+    ReceiverData* before = beforeIt != previous.end() ? &beforeIt->second : nullptr;
     const bool moved = change && change->moveOf(receiver.objectIndex) != nullptr;
     std::vector<std::pair<Vec3, Vec3>>& eee = eeeOnReceiver[receiver.id];
     const bool sameEee = before && before->eeeInputs == eee;
@@ -1049,7 +1049,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       data.faces = std::move(oldFaceData);
       stats_.reusedFaces += (long long)data.faces.size();
       stats_.recomputedFaces += (long long)data.faces.size();
-      receivers_.insert_or_assign(receiver.id, std::move(data));
+      receivers_.emplace(receiver.id, std::move(data));
       continue;
     }
     std::vector<int> reusable(data.mesh.faces().size(), -1);
@@ -1084,7 +1084,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     backprojectionSeconds += secondsSince(backprojecting);
     for (int r : reusable) stats_.reusedFaces += r >= 0 ? 1 : 0;
     stats_.recomputedFaces += (long long)data.mesh.faces().size();
-    receivers_.insert_or_assign(receiver.id, std::move(data));
+    receivers_.emplace(receiver.id, std::move(data));
   }
   stats_.recomputedFaces -= stats_.reusedFaces;
   const double receiverSeconds = secondsSince(start);
