@@ -1079,69 +1079,53 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
   // outline) ends there. Removing one such vertex changes no other's degree.
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  std::vector<Arrangement::Vertex_handle> lonely;
+  struct Lonely {
+    Arrangement::Vertex_handle vertex;
+    double xLow, xHigh, yLow, yHigh;  // its point's intervals
+    bool endsAPiece = false;
+  };
+  std::vector<Lonely> lonely;
   for (auto v : touched)
-    if (v->is_isolated() || v->degree() == 2) lonely.push_back(v);
-  // Points by their intervals, sorted by the lower bound of the abscissa's: a point is compared
-  // exactly only with those whose intervals overlap its own.
-  struct Located {
-    double xLow, xHigh, yLow, yHigh;
-    const Point* point;
-  };
-  struct Sorted {
-    std::vector<Located> points;
-    double widest = 0;  // the widest abscissa interval
-  };
-  const auto located = [](const Point& p) {
+    if (v->is_isolated() || v->degree() == 2) {
+      const auto& box = v->point().approx();
+      lonely.push_back({v, box.x().inf(), box.x().sup(), box.y().inf(), box.y().sup()});
+    }
+  // Every end of those pieces marks the lonely vertices it is, compared exactly only with those
+  // whose intervals overlap its own: a scan of the ends against a few vertices sorted by the lower
+  // bound of their abscissa's interval (a floor has 70,000 pieces, an edit a few such vertices).
+  std::vector<size_t> byLow(lonely.size());
+  for (size_t k = 0; k < byLow.size(); ++k) byLow[k] = k;
+  std::sort(byLow.begin(), byLow.end(),
+            [&](size_t a, size_t b) { return lonely[a].xLow < lonely[b].xLow; });
+  double widest = 0;
+  for (const Lonely& v : lonely) widest = std::max(widest, v.xHigh - v.xLow);
+  const auto markEnd = [&](const Point& p) {
     const auto& box = p.approx();
-    return Located{box.x().inf(), box.x().sup(), box.y().inf(), box.y().sup(), &p};
-  };
-  const auto sorted = [](std::vector<Located> points) {
-    std::sort(points.begin(), points.end(),
-              [](const Located& a, const Located& b) { return a.xLow < b.xLow; });
-    Sorted result{std::move(points)};
-    for (const Located& p : result.points)
-      result.widest = std::max(result.widest, p.xHigh - p.xLow);
-    return result;
-  };
-  // Whether f holds for one of `among` whose interval overlaps p's.
-  const auto anyOverlapping = [](const Sorted& among, const Located& p, auto&& f) {
     const auto first =
-        std::lower_bound(among.points.begin(), among.points.end(), p.xLow - among.widest,
-                         [](const Located& q, double value) { return q.xLow < value; });
-    for (auto it = first; it != among.points.end() && it->xLow <= p.xHigh; ++it)
-      if (p.xLow <= it->xHigh && it->yLow <= p.yHigh && p.yLow <= it->yHigh && f(*it)) return true;
-    return false;
-  };
-  std::vector<Located> lonelyPoints;
-  for (auto v : lonely) lonelyPoints.push_back(located(v->point()));
-  const Sorted lonelySorted = sorted(std::move(lonelyPoints));
-  // The ends that may be one of those vertices: a scan of every piece's intervals, not a sort of
-  // every end (a floor has 70,000 pieces, an edit a few such vertices).
-  std::vector<Located> ends;
-  const auto addEnd = [&](const Point& p) {
-    const Located end = located(p);
-    if (anyOverlapping(lonelySorted, end, [](const Located&) { return true; })) ends.push_back(end);
+        std::lower_bound(byLow.begin(), byLow.end(), box.x().inf() - widest,
+                         [&](size_t k, double value) { return lonely[k].xLow < value; });
+    for (auto it = first; it != byLow.end() && lonely[*it].xLow <= box.x().sup(); ++it) {
+      Lonely& v = lonely[*it];
+      if (!v.endsAPiece && box.x().inf() <= v.xHigh && v.yLow <= box.y().sup() &&
+          box.y().inf() <= v.yHigh && v.vertex->point() == p)
+        v.endsAPiece = true;
+    }
   };
   if (!lonely.empty()) {
     for (const Piece& p : now)
       if (!added.count(p.surface)) {
-        addEnd(p.a);
-        addEnd(p.b);
+        markEnd(p.a);
+        markEnd(p.b);
       }
     for (const auto* fixed : {&m.boundary, &m.tiles})
       for (const auto& curve : *fixed) {
-        addEnd(curve.source());
-        addEnd(curve.target());
+        markEnd(curve.source());
+        markEnd(curve.target());
       }
   }
-  const Sorted endsSorted = sorted(std::move(ends));
-  for (auto v : lonely) {
-    const Point& q = v->point();
-    if (anyOverlapping(endsSorted, located(q), [&](const Located& end) { return *end.point == q; }))
-      continue;
-    CGAL::remove_vertex(m.arrangement, v);  // its data goes with it (EditTracker)
-  }
+  for (const Lonely& v : lonely)
+    if (!v.endsAPiece)
+      CGAL::remove_vertex(m.arrangement, v.vertex);  // its data goes with it (EditTracker)
   {
     WalkLocation walk(m.arrangement);
     for (const Piece& p : now)
