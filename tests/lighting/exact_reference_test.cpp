@@ -218,3 +218,120 @@ TEST(ExactReference, NeverBelowZero) {
 
 }  // namespace
 }  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// The faces of an axis-aligned box, counter-clockwise seen from outside (or from inside).
+std::vector<Polygon3> boxFaces(const Vec3& lo, const Vec3& hi, bool inward = false) {
+  const double x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
+  std::vector<Polygon3> faces{{{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
+                              {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
+                              {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
+                              {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},
+                              {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
+                              {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}}};
+  if (inward)
+    for (Polygon3& f : faces) std::reverse(f.begin(), f.end());
+  return faces;
+}
+
+// An L-shaped prism (not convex) between heights z0 and z1, its corner at (x, y).
+std::vector<Polygon3> lPrismFaces(double x, double y, double z0, double z1) {
+  const std::vector<Vec2> l{
+      {x, y},      {x + 0.8, y}, {x + 0.8, y + 0.3}, {x + 0.3, y + 0.3}, {x + 0.3, y + 0.8},
+      {x, y + 0.8}};
+  Polygon3 bottom, top;
+  for (const Vec2& q : l) top.push_back({q.x, q.y, z1});
+  for (auto it = l.rbegin(); it != l.rend(); ++it) bottom.push_back({it->x, it->y, z0});
+  std::vector<Polygon3> faces{bottom, top};
+  for (size_t i = 0; i < l.size(); ++i) {
+    const Vec2& a = l[i];
+    const Vec2& b = l[(i + 1) % l.size()];
+    faces.push_back({{a.x, a.y, z0}, {b.x, b.y, z0}, {b.x, b.y, z1}, {a.x, a.y, z1}});
+  }
+  return faces;
+}
+
+// Closed surfaces of every kind the culling meets, under the light of lightOverFloor: boxes
+// floating, standing on the floor, stacked face to face, turned inside out, one crossing the
+// light's plane beside it, a tilted box, an L-shaped prism and a two-sided card. (Boxes stacked
+// corner to corner would share edges four ways: open, and kept whole.)
+test::SceneBuilder closedSolidsUnderTheLight() {
+  test::SceneBuilder b = lightOverFloor();
+  const auto add = [&](const std::vector<Polygon3>& faces, const std::string& object) {
+    for (const Polygon3& f : faces) b.addPolygon("white", f, object);
+  };
+  add(boxFaces({0.5, -0.3, 0.6}, {1.0, 0.2, 0.9}), "floating");
+  add(boxFaces({-2, -0.5, 0}, {-1.2, 0.5, 0.7}), "standing");
+  add(boxFaces({0.2, -1.5, 0}, {0.6, -1.1, 0.3}), "stack");
+  add(boxFaces({0.3, -1.4, 0.3}, {0.5, -1.2, 0.5}), "stack");
+  add(boxFaces({-0.6, 0.8, 1.0}, {-0.2, 1.2, 1.3}, true), "inside-out");
+  add(boxFaces({2.5, -0.2, 1.5}, {3.0, 0.2, 2.5}), "through-the-light-plane");
+  add(lPrismFaces(1.2, 1.1, 0.3, 0.5), "l-prism");
+  // A box turned 30 degrees about z and tilted about x.
+  std::vector<Polygon3> tilted = boxFaces({-0.25, -0.15, -0.1}, {0.25, 0.15, 0.1});
+  const double c = std::cos(0.52), s = std::sin(0.52), ct = std::cos(0.3), st = std::sin(0.3);
+  for (Polygon3& f : tilted)
+    for (Vec3& v : f) {
+      const Vec3 r{c * v.x - s * v.y, s * v.x + c * v.y, v.z};
+      v = Vec3{r.x, ct * r.y - st * r.z, st * r.y + ct * r.z} + Vec3{-1.0, -1.6, 0.8};
+    }
+  add(tilted, "tilted");
+  const Polygon3 card{{1.5, -1.5, 1.1}, {2.1, -1.2, 1.3}, {1.6, -0.8, 1.2}};
+  add({card, Polygon3(card.rbegin(), card.rend())}, "two-sided-card");
+  return b;
+}
+
+// ClosedObjectFaces::kFacingThePoint leaves out about half the polygons of closed surfaces; the
+// light they let through must be none. Against the oracle's kAll, at random floor points, at
+// points on the floor's lines where boxes' side planes cross it (there the side is edge-on and
+// skipped, and which faces face the point is decided by its neighbours), at the contact lines
+// of the boxes standing on the floor, and on the boxes' own faces.
+TEST(ExactReference, ClosedSurfacesFacingThePointHideWhatTheyWholeHide) {
+  const PosedScene scene = closedSolidsUnderTheLight().pose();
+  for (const WorldPolygon& q : scene.polygons)
+    if (q.objectIndex >= 2) {
+      ASSERT_GE(q.closedSurface, 0) << "polygon " << q.id;
+    }
+  const UniformGrid grid(scene);
+  const ExactReference all(scene, &grid), facing(scene, &grid, ClosedObjectFaces::kFacingThePoint);
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-3.5, 3.5);
+  std::vector<std::pair<Vec3, Vec3>> points;  // point, normal
+  const Vec3 up{0, 0, 1}, tilted = normalize(Vec3{1, -0.5, 1});
+  for (int i = 0; i < 400; ++i) points.push_back({{u(rng), u(rng), 0}, i % 4 ? up : tilted});
+  for (double side : {0.5, 1.0, -2.0, -1.2, 0.2, 0.6, 0.3, -0.6, -0.2, 2.5, 3.0, 1.2, 1.5, 2.0})
+    for (int i = 0; i < 20; ++i) {
+      points.push_back({{side, u(rng), 0}, up});
+      points.push_back({{u(rng), side, 0}, up});
+    }
+  for (int i = 0; i <= 20; ++i) {  // along and just beside the standing box's foot
+    const double t = -0.5 + i * 0.05;
+    for (double off : {0.0, 1e-12, 1e-9, 1e-6})
+      points.push_back({{-2 - off, t, 0}, up}), points.push_back({{-1.2 + off, t, 0}, up}),
+          points.push_back({{-2 + 0.04 * i, -0.5 - off, 0}, up});
+  }
+  int culledSomewhere = 0;
+  for (const auto& [p, n] : points) {
+    const Rgb a = all.irradiance(p, n), f = facing.irradiance(p, n);
+    EXPECT_NEAR(f.r, a.r, 1e-12) << "at (" << p.x << ", " << p.y << ", " << p.z << ")";
+    const PolygonId light = scene.lights[0];
+    culledSomewhere += facing.visibleLight(p, n, light).occluders.size() <
+                               all.visibleLight(p, n, light).occluders.size()
+                           ? 1
+                           : 0;
+  }
+  // On the boxes' faces: the receiver's own surface contains the point and is kept whole.
+  for (const WorldPolygon& q : scene.polygons) {
+    if (q.objectIndex < 2 || q.plane.normal.z < 0.5) continue;
+    const Vec3 p = centroid(q.vertices);
+    EXPECT_NEAR(facing.irradiance(p, q.plane.normal, q.id).r,
+                all.irradiance(p, q.plane.normal, q.id).r, 1e-12)
+        << "on polygon " << q.id;
+  }
+  EXPECT_GT(culledSomewhere, 200);
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -524,7 +524,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     keepCast(surface, index, then);
   };
   const PosedScene& scene = *posed_;
-  reference_ = std::make_unique<ExactReference>(scene, grid_);
+  reference_ = std::make_unique<ExactReference>(scene, grid_, ClosedObjectFaces::kFacingThePoint);
   std::unique_ptr<EdgeAdjacency> previousAdjacency = std::move(adjacency_);
   adjacency_ = std::make_unique<EdgeAdjacency>(scene);
   // What EEE enumeration found in the frame before, read where its inputs are unchanged (not
@@ -1071,9 +1071,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       }
       for (const MeshFace& face : data.mesh.faces()) {
         const int g = previousFace[face.index];
-        if (g >= 0 && keepsFaceData(data, face, oldFaceData[size_t(g)],
-                                    keepMesh ? data.eeeSegments : eeeBefore, eeeChanged, sameEee,
-                                    *change))
+        if (g >= 0 &&
+            keepsFaceData(data, face, oldFaceData[size_t(g)],
+                          keepMesh ? data.eeeSegments : eeeBefore, eeeChanged, sameEee, *change))
           reusable[face.index] = g;
       }
     }

@@ -47,10 +47,51 @@ Polygon2 convexHull(Polygon2 points) {
   return hull;
 }
 
+// Per-thread verdicts of ExactReference::isBehindItsSurface, per closed surface, marked with the
+// point query they were made for (query numbers only grow, as visit marks do).
+struct SurfaceVerdicts {
+  std::vector<std::uint64_t> marks;
+  std::vector<char> cullable;
+  std::uint64_t query = 0;
+};
+thread_local SurfaceVerdicts surfaceVerdicts;
+
 }  // namespace
 
-ExactReference::ExactReference(const PosedScene& scene, const UniformGrid* grid)
-    : scene_(scene), grid_(grid) {}
+ExactReference::ExactReference(const PosedScene& scene, const UniformGrid* grid,
+                               ClosedObjectFaces closedObjectFaces)
+    : scene_(scene), grid_(grid), closedObjectFaces_(closedObjectFaces) {}
+
+bool ExactReference::isBehindItsSurface(const WorldPolygon& q, const Vec3& p, const Box3& lit,
+                                        double coplanarTolerance) const {
+  if (closedObjectFaces_ != ClosedObjectFaces::kFacingThePoint || q.closedSurface < 0) return false;
+  // Whether the surface's polygons facing p hide all it hides, decided once per surface and
+  // point query (visibleRegion numbers them).
+  std::vector<std::uint64_t>& marks = surfaceVerdicts.marks;
+  std::vector<char>& cullable = surfaceVerdicts.cullable;
+  const size_t s = size_t(q.closedSurface);
+  if (marks.size() < scene_.closedSurfaces.size()) {
+    marks.resize(scene_.closedSurfaces.size(), 0);
+    cullable.resize(scene_.closedSurfaces.size(), 0);
+  }
+  if (marks[s] != surfaceVerdicts.query) {
+    marks[s] = surfaceVerdicts.query;
+    const ClosedSurface& surface = scene_.closedSurfaces[s];
+    // Outside the surface's bounds a point has winding number 0: exact for p. The lit light's
+    // corners come from clipping and its points from the light frame's rounding, so its bounds
+    // must clear the surface's by a margin far above that. And every crossing of a segment from
+    // p with the surface must be one the boolean operation sees: a polygon whose plane passes
+    // within the coplanar tolerance of p is left out, yet a segment may enter the surface
+    // through it right beside p (a point a rounding off a box's side at its foot).
+    cullable[s] =
+        !surface.bounds.contains(p) &&
+        !surface.bounds.expanded(1e-9 * scene_.extent.diagonalLength()).overlaps(lit) &&
+        std::none_of(surface.polygons.begin(), surface.polygons.end(), [&](PolygonId id) {
+          return std::abs(scene_.polygons[size_t(id)].plane.signedDistance(p)) <= coplanarTolerance;
+        });
+  }
+  return cullable[s] && q.plane.signedDistance(p) < 0;
+}
 
 namespace {
 
@@ -237,9 +278,12 @@ VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const P
   const double coplanarTolerance = kCoplanarRelativeTolerance * scene_.extent.diagonalLength();
 
   ClipperLib::Paths occluders;
+  const Box3 litBounds = boundingBox(lit);
+  ++surfaceVerdicts.query;
   forEachCandidate(shaft, cone, [&](const WorldPolygon& q) {
     if (q.id == lightId || q.id == receiver) return;
     if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) return;
+    if (isBehindItsSurface(q, p, litBounds, coplanarTolerance)) return;
     // Two buffers reused across polygons and calls: the clipping itself is cheap, allocating
     // a copy of a polygon of many vertices per plane was not.
     // A polygon of many vertices is clipped run by run (edge_runs.h): runs wholly outside a

@@ -29,13 +29,24 @@ struct VisibleLight {
   std::vector<PolygonId> occluders;
 };
 
+// Which polygons of a closed object enter the boolean operation (ExactReference's constructor).
+enum class ClosedObjectFaces {
+  kAll,  // every polygon, as the oracle does
+  // Where p and the lit light lie outside the bounds of a closed surface (a box of a piece of
+  // furniture: WorldPolygon::closedSurface), only its polygons that face p: they hide all that
+  // it hides (closed_surface.h), and they are about half of it. The engines' choice.
+  kFacingThePoint,
+};
+
 class ExactReference {
  public:
   // `grid` (optional, must outlive this) narrows the occluders considered for a point to those in
   // the cells overlapping the bounding box of the point and the light; without it every polygon is
   // tested. Both give the same answer.
-  explicit ExactReference(const PosedScene& scene, const UniformGrid* grid = nullptr);
-  ExactReference(PosedScene&&, const UniformGrid* = nullptr) = delete;  // keeps a reference
+  explicit ExactReference(const PosedScene& scene, const UniformGrid* grid = nullptr,
+                          ClosedObjectFaces closedObjectFaces = ClosedObjectFaces::kAll);
+  ExactReference(PosedScene&&, const UniformGrid* = nullptr,
+                 ClosedObjectFaces = ClosedObjectFaces::kAll) = delete;  // keeps a reference
 
   // Direct irradiance E(p) = Σ_lights M · F(p, V_light(p)) (W/m² per channel). `receiver`, when
   // given, is the polygon p lies on: it never occludes, even when rounding puts p a little behind
@@ -100,8 +111,15 @@ class ExactReference {
                              std::optional<PolygonId> receiver,
                              ForEachCandidate&& forEachCandidate) const;
 
+  // With ClosedObjectFaces::kFacingThePoint: does polygon q of a closed surface face away from p,
+  // with p and the lit light (bounds `lit`) outside the surface's bounds and no polygon of it
+  // left out as coplanar with p, so that its polygons facing p hide what it would?
+  bool isBehindItsSurface(const WorldPolygon& q, const Vec3& p, const Box3& lit,
+                          double coplanarTolerance) const;
+
   const PosedScene& scene_;
   const UniformGrid* grid_;
+  ClosedObjectFaces closedObjectFaces_;
 };
 
 }  // namespace penumbra

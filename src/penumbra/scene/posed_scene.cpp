@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "penumbra/base/check.h"
+#include "penumbra/scene/closed_surface.h"
 #include "penumbra/scene/reach_bounds.h"
 
 namespace penumbra {
@@ -24,6 +25,26 @@ void posePolygon(const SceneObject& object, int k, const Transform& transform, W
 void recomputeBounds(PosedScene& posed) {
   posed.bounds = {};
   for (const WorldPolygon& wp : posed.polygons) posed.bounds.extend(wp.bounds);
+  for (ClosedSurface& surface : posed.closedSurfaces) {
+    surface.bounds = {};
+    for (PolygonId id : surface.polygons) surface.bounds.extend(posed.polygons[size_t(id)].bounds);
+  }
+}
+
+// Numbers the closed surfaces among one object's polygons (`rings`, those of polygons[first...])
+// after those found so far.
+void addClosedSurfaces(const std::vector<const Polygon3*>& rings, PolygonId first,
+                       PosedScene& posed) {
+  const int before = int(posed.closedSurfaces.size());
+  const std::vector<int> surfaces = closedSurfaces(rings);
+  for (size_t k = 0; k < surfaces.size(); ++k) {
+    if (surfaces[k] < 0) continue;
+    const int surface = before + surfaces[k];
+    if (int(posed.closedSurfaces.size()) <= surface)
+      posed.closedSurfaces.resize(size_t(surface) + 1);
+    posed.closedSurfaces[size_t(surface)].polygons.push_back(first + PolygonId(k));
+    posed.polygons[size_t(first) + k].closedSurface = surface;
+  }
 }
 
 }  // namespace
@@ -39,6 +60,15 @@ void indexObjects(PosedScene& posed) {
     }
   }
   posed.objectFirstPolygon.push_back(PolygonId(posed.polygons.size()));
+  // Identity transforms: the posed corners are the object-space ones.
+  posed.closedSurfaces.clear();
+  for (int object = 0; object < posed.objectCount(); ++object) {
+    std::vector<const Polygon3*> rings;
+    const PolygonId first = posed.objectFirstPolygon[size_t(object)];
+    for (PolygonId id = first; id < posed.objectFirstPolygon[size_t(object) + 1]; ++id)
+      rings.push_back(&posed.polygons[size_t(id)].vertices);
+    addClosedSurfaces(rings, first, posed);
+  }
   recomputeBounds(posed);
   posed.extent = posed.bounds;
 }
@@ -75,6 +105,9 @@ PosedScene poseWith(const Scene& scene, std::vector<Transform> transforms, const
       if (wp.isLight) posed.lights.push_back(wp.id);
       posed.polygons.push_back(std::move(wp));
     }
+    std::vector<const Polygon3*> rings;
+    for (const Polygon3& polygon : object.polygons) rings.push_back(&polygon);
+    addClosedSurfaces(rings, posed.objectFirstPolygon.back(), posed);
   }
   posed.objectFirstPolygon.push_back(PolygonId(posed.polygons.size()));
   recomputeBounds(posed);

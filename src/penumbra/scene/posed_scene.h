@@ -22,6 +22,16 @@ struct WorldPolygon {
   // edgeRuns(vertices): empty unless the polygon has many vertices (geometry/edge_runs.h).
   std::vector<VertexRun> edgeRuns;
   bool isLight = false;
+  // The closed surface of its object it is part of (closed_surface.h; an index into
+  // PosedScene::closedSurfaces), or -1. Found in object space, so the same at every pose: a
+  // transform maps equal corners to equal corners, and a mirroring one reverses every polygon.
+  int closedSurface = -1;
+};
+
+// A closed surface among an object's polygons (closed_surface.h): a box of a piece of furniture.
+struct ClosedSurface {
+  std::vector<PolygonId> polygons;  // the same at every pose
+  Box3 bounds;                      // at this pose
 };
 
 struct PosedScene {
@@ -38,6 +48,8 @@ struct PosedScene {
   Box3 extent;
   std::vector<Transform> objectTransforms;    // object-to-world, indexed like Scene::objects
   std::vector<PolygonId> objectFirstPolygon;  // first PolygonId of each object, plus the count
+  // Every closed surface (WorldPolygon::closedSurface).
+  std::vector<ClosedSurface> closedSurfaces;
 
   const Material& materialOf(const WorldPolygon& p) const { return materials[p.material]; }
   int objectCount() const { return int(objectTransforms.size()); }
@@ -57,7 +69,7 @@ void applyMoves(const Scene& scene, const SceneChange& change, PosedScene& posed
 
 // For posed scenes assembled polygon by polygon (tests): derives the object table from the
 // polygons' objectIndex (each object's polygons contiguous, in order), with identity transforms,
-// recomputes `bounds`, and sets `extent` to them.
+// and the closed surfaces, recomputes `bounds`, and sets `extent` to them.
 void indexObjects(PosedScene& posed);
 
 // The object-to-world transform of every object at a keyframe pose.
