@@ -11,6 +11,7 @@
 #include "penumbra/scene/receiver_sampling.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "support/boxes.h"
 #include "support/scene_builder.h"
 
 namespace penumbra {
@@ -224,13 +225,7 @@ namespace {
 
 // The faces of an axis-aligned box, counter-clockwise seen from outside (or from inside).
 std::vector<Polygon3> boxFaces(const Vec3& lo, const Vec3& hi, bool inward = false) {
-  const double x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-  std::vector<Polygon3> faces{{{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
-                              {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
-                              {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
-                              {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},
-                              {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
-                              {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}}};
+  std::vector<Polygon3> faces = test::boxFaces(lo, hi);
   if (inward)
     for (Polygon3& f : faces) std::reverse(f.begin(), f.end());
   return faces;

@@ -4,19 +4,12 @@
 
 #include <algorithm>
 
+#include "support/boxes.h"
+
 namespace penumbra {
 namespace {
 
-// The six faces of an axis-aligned box, counter-clockwise seen from outside.
-std::vector<Polygon3> box(const Vec3& lo, const Vec3& hi) {
-  const double x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-  return {{{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},
-          {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},
-          {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},
-          {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}},
-          {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},
-          {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}}};
-}
+using test::boxFaces;
 
 std::vector<int> surfacesOf(const std::vector<Polygon3>& polygons) {
   std::vector<const Polygon3*> rings;
@@ -30,11 +23,11 @@ Polygon3 reversed(Polygon3 p) {
 }
 
 TEST(ClosedSurface, ABoxIsOneClosedSurface) {
-  EXPECT_EQ(surfacesOf(box({0, 0, 0}, {1, 2, 3})), std::vector<int>(6, 0));
+  EXPECT_EQ(surfacesOf(boxFaces({0, 0, 0}, {1, 2, 3})), std::vector<int>(6, 0));
 }
 
 TEST(ClosedSurface, ABoxTurnedInsideOutIsClosedToo) {
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
   for (Polygon3& f : faces) f = reversed(f);
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(6, 0));
 }
@@ -42,8 +35,8 @@ TEST(ClosedSurface, ABoxTurnedInsideOutIsClosedToo) {
 TEST(ClosedSurface, BoxesOfOnePieceOfFurnitureAreNumberedApart) {
   // A box standing on another (its bottom on the other's top, no corner shared), then an open
   // card: surfaces 0 and 1, the card -1.
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
-  for (const Polygon3& f : box({0.25, 0.25, 1}, {0.75, 0.75, 2})) faces.push_back(f);
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
+  for (const Polygon3& f : boxFaces({0.25, 0.25, 1}, {0.75, 0.75, 2})) faces.push_back(f);
   faces.push_back({{3, 0, 0}, {4, 0, 0}, {4, 1, 0}});
   std::vector<int> expected(6, 0);
   expected.insert(expected.end(), 6, 1);
@@ -59,26 +52,26 @@ TEST(ClosedSurface, ATwoSidedCardIsClosed) {
 }
 
 TEST(ClosedSurface, AMissingFaceOpensIt) {
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
   faces.pop_back();
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(5, -1));
 }
 
 TEST(ClosedSurface, OneFaceTurnedTheWrongWayOpensIt) {
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
   faces[2] = reversed(faces[2]);
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(6, -1));
 }
 
 TEST(ClosedSurface, ACornerOneUlpAwayOpensIt) {
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
   faces[1][2].x = std::nextafter(1.0, 2.0);
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(6, -1));
 }
 
 TEST(ClosedSurface, ATJunctionOpensIt) {
   // The top split in two halves: the side faces' top edges meet two half-edges each, not one.
-  std::vector<Polygon3> faces = box({0, 0, 0}, {2, 1, 1});
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {2, 1, 1});
   faces[1] = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   faces.push_back({{1, 0, 1}, {2, 0, 1}, {2, 1, 1}, {1, 1, 1}});
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(7, -1));
@@ -87,20 +80,20 @@ TEST(ClosedSurface, ATJunctionOpensIt) {
 TEST(ClosedSurface, BoxesStackedCornerToCornerAreOpen) {
   // The top of one is the bottom of the other, corners and all: every edge of that square is run
   // by four polygons.
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
-  for (const Polygon3& f : box({0, 0, 1}, {1, 1, 2})) faces.push_back(f);
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
+  for (const Polygon3& f : boxFaces({0, 0, 1}, {1, 1, 2})) faces.push_back(f);
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(12, -1));
 }
 
 TEST(ClosedSurface, AnEdgeSharedByFourPolygonsOpensIt) {
   // Two boxes along one edge only (x = 1, y = 1): that edge is run twice each way.
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
-  for (const Polygon3& f : box({1, 1, 0}, {2, 2, 1})) faces.push_back(f);
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
+  for (const Polygon3& f : boxFaces({1, 1, 0}, {2, 2, 1})) faces.push_back(f);
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(12, -1));
 }
 
 TEST(ClosedSurface, RepeatedCornersAreEdgesOfNoLength) {
-  std::vector<Polygon3> faces = box({0, 0, 0}, {1, 1, 1});
+  std::vector<Polygon3> faces = boxFaces({0, 0, 0}, {1, 1, 1});
   faces[0].insert(faces[0].begin() + 1, faces[0][1]);
   EXPECT_EQ(surfacesOf(faces), std::vector<int>(6, 0));
 }
