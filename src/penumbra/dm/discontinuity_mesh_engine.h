@@ -396,6 +396,9 @@ class DiscontinuityMeshEngine {
   std::unique_ptr<DynamicScene> ownedScene_;  // only for the convenience builds
   const PosedScene* posed_ = nullptr;
   const UniformGrid* grid_ = nullptr;
+  // Leaves out the polygons of closed surfaces that face away from the point
+  // (ClosedObjectFaces::kFacingThePoint): the same visible light with about half the polygons of
+  // a box; the tests' oracle keeps them all.
   std::unique_ptr<ExactReference> reference_;
   std::unique_ptr<EdgeAdjacency> adjacency_;
   std::unique_ptr<BackprojectionBuilder> backprojections_;
