@@ -62,8 +62,8 @@ ExactReference::ExactReference(const PosedScene& scene, const UniformGrid* grid,
                                ClosedObjectFaces closedObjectFaces)
     : scene_(scene), grid_(grid), closedObjectFaces_(closedObjectFaces) {}
 
-bool ExactReference::isBehindItsSurface(const WorldPolygon& q, const Vec3& p, const Box3& lit,
-                                        double coplanarTolerance) const {
+bool ExactReference::isBehindItsSurface(const WorldPolygon& q, const Vec3& p, double distance,
+                                        const Box3& lit, double coplanarTolerance) const {
   if (closedObjectFaces_ != ClosedObjectFaces::kFacingThePoint || q.closedSurface < 0) return false;
   // Whether the surface's polygons facing p hide all it hides, decided once per surface and
   // point query (visibleRegion numbers them).
@@ -90,7 +90,7 @@ bool ExactReference::isBehindItsSurface(const WorldPolygon& q, const Vec3& p, co
           return std::abs(scene_.polygons[size_t(id)].plane.signedDistance(p)) <= coplanarTolerance;
         });
   }
-  return cullable[s] && q.plane.signedDistance(p) < 0;
+  return cullable[s] && distance < 0;
 }
 
 namespace {
@@ -282,8 +282,9 @@ VisibleLight ExactReference::visibleRegion(const Vec3& p, const Vec3& n, const P
   ++surfaceVerdicts.query;
   forEachCandidate(shaft, cone, [&](const WorldPolygon& q) {
     if (q.id == lightId || q.id == receiver) return;
-    if (std::abs(q.plane.signedDistance(p)) <= coplanarTolerance) return;
-    if (isBehindItsSurface(q, p, litBounds, coplanarTolerance)) return;
+    const double distance = q.plane.signedDistance(p);
+    if (std::abs(distance) <= coplanarTolerance) return;
+    if (isBehindItsSurface(q, p, distance, litBounds, coplanarTolerance)) return;
     // Two buffers reused across polygons and calls: the clipping itself is cheap, allocating
     // a copy of a polygon of many vertices per plane was not.
     // A polygon of many vertices is clipped run by run (edge_runs.h): runs wholly outside a

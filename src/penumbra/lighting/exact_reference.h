@@ -111,10 +111,11 @@ class ExactReference {
                              std::optional<PolygonId> receiver,
                              ForEachCandidate&& forEachCandidate) const;
 
-  // With ClosedObjectFaces::kFacingThePoint: does polygon q of a closed surface face away from p,
-  // with p and the lit light (bounds `lit`) outside the surface's bounds and no polygon of it
-  // left out as coplanar with p, so that its polygons facing p hide what it would?
-  bool isBehindItsSurface(const WorldPolygon& q, const Vec3& p, const Box3& lit,
+  // With ClosedObjectFaces::kFacingThePoint: does polygon q of a closed surface face away from p
+  // (`distance`: p's signed distance to q's plane), with p and the lit light (bounds `lit`)
+  // outside the surface's bounds and no polygon of it left out as coplanar with p, so that its
+  // polygons facing p hide what it would?
+  bool isBehindItsSurface(const WorldPolygon& q, const Vec3& p, double distance, const Box3& lit,
                           double coplanarTolerance) const;
 
   const PosedScene& scene_;
