@@ -456,6 +456,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // cuts the same polygons the same way (the paper's per-cell test), so its cast is kept.
   std::vector<DiscontinuitySurface> previousSurfaces;
   if (change) previousSurfaces = std::move(surfaces_);
+  surfaces_ = std::move(spareSurfaces_);
   surfaces_.clear();
   // Sized as the frame before: growing a list of half a million surfaces by doubling moved each
   // one several times and faulted in fresh pages for every copy (10% of a large room's update).
@@ -639,6 +640,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // A surface's visible pieces are a function of its fan, hinge polygons and cuts: a kept cast
   // with the same hinge polygons has those of the frame before (under its new id).
   std::vector<std::vector<DiscontinuitySegment>> previousVisible = std::move(visible_);
+  visible_ = std::move(spareVisible_);
   visible_.clear();
   visible_.reserve(previousVisible.size());
   // By receiver id (lists indexed by polygon, not maps: every visible segment of the scene is
@@ -684,6 +686,11 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.secondsVisibility = secondsSince(start);
 
   start = Clock::now();
+  // The frame before's EEE surfaces, in its traces' order: a kept trace takes its surface's cells
+  // over.
+  std::vector<EeeSurface> previousEee;
+  if (change) previousEee = std::move(eeeSurfaces_);
+  eeeSurfaces_ = std::move(spareEee_);
   eeeSurfaces_.clear();
   const double chord = kEeeChordTolerance * scene.extent.diagonalLength();
   std::vector<std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver(scene.polygons.size());
@@ -699,7 +706,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       const SceneEdge& edge = adjacency_->edges()[e];
       key.ends[end++] = adjacency_->position(edge.a);
       key.ends[end++] = adjacency_->position(edge.b);
-      key.incident.insert(key.incident.end(), edge.polygons.begin(), edge.polygons.end());
+      for (PolygonId polygon : edge.polygons) key.incident.push_back(polygon);
       key.incident.push_back(-1);
     }
     return key;
@@ -710,6 +717,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // kept (not when a light moved: the lines start on it).
   std::vector<EeeTrace> previousTraces;
   if (change) previousTraces = std::move(eeeTraces_);
+  eeeTraces_ = std::move(spareTraces_);
   eeeTraces_.clear();
   eeeTraces_.reserve(previousTraces.size());
   TakenOnce previousByKey;
@@ -742,8 +750,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
               return b.meetsSegment(line.first, line.second);
             });
           };
+          const std::vector<int>& cells = previousEee[i].cells;
           return before.key == trace.key &&
-                 (std::none_of(before.cells.begin(), before.cells.end(),
+                 (std::none_of(cells.begin(), cells.end(),
                                [&](int cell) { return movedCells[cell] != 0; }) ||
                   std::none_of(before.lines.begin(), before.lines.end(), meetsMoved));
         });
@@ -751,10 +760,12 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
           kept = &previousTraces[*then];
           newIdOf[previousPlanar + *then] = s.id;
         }
+        if (kept) {
+          s.cells = std::move(previousEee[*then].cells);
+          s.truncated = previousEee[*then].truncated;
+        }
       }
       if (kept) {
-        s.cells = std::move(kept->cells);
-        s.truncated = kept->truncated;
         crossed = std::move(kept->crossed);
         trace.segments = std::move(kept->segments);
         trace.lines = std::move(kept->lines);
@@ -766,9 +777,6 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         if (!to) crossed.clear();
         if (change) markReceivers(trace.segments);
       }
-      trace.cells = s.cells;
-      trace.truncated = s.truncated;
-      trace.crossed = crossed;
       for (DiscontinuitySegment segment : trace.segments) {
         ++stats_.eeeSegments;
         eeeOnReceiver[segment.receiver].push_back({segment.p0, segment.p1});
@@ -779,6 +787,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       stats_.eeeSurfacesTruncated += s.truncated ? 1 : 0;
       if (to)
         for (PolygonId p : crossed) (*to)[s.light].push_back({s.first, s.second, p});
+      trace.crossed = std::move(crossed);
+      crossed.clear();
       eeeTraces_.push_back(std::move(trace));
     }
   };
@@ -1091,6 +1101,17 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.secondsBackprojections = backprojectionSeconds - stats_.secondsVerification;
   stats_.secondsMeshing = receiverSeconds - backprojectionSeconds;
   tallyReceivers();
+  // Their storage kept for the next update (see spareSurfaces_); a build keeps none.
+  if (change) {
+    previousSurfaces.clear();
+    spareSurfaces_ = std::move(previousSurfaces);
+    previousTraces.clear();
+    spareTraces_ = std::move(previousTraces);
+    previousVisible.clear();
+    spareVisible_ = std::move(previousVisible);
+    previousEee.clear();
+    spareEee_ = std::move(previousEee);
+  }
   stats_.updateCacheBytes = updateCacheBytes();
 }
 
@@ -1123,10 +1144,14 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
   }
   for (const auto& pieces : visible_)
     bytes += sizeof(pieces) + pieces.capacity() * sizeof(DiscontinuitySegment);
+  bytes += spareSurfaces_.capacity() * sizeof(DiscontinuitySurface) +
+           spareTraces_.capacity() * sizeof(EeeTrace) +
+           spareVisible_.capacity() * sizeof(spareVisible_[0]) +
+           spareEee_.capacity() * sizeof(EeeSurface);
   for (const EeeTrace& trace : eeeTraces_)
     bytes += sizeof(trace) + trace.segments.capacity() * sizeof(DiscontinuitySegment) +
              trace.lines.capacity() * sizeof(trace.lines[0]) +
-             trace.cells.capacity() * sizeof(int) + trace.crossed.capacity() * sizeof(PolygonId);
+             trace.crossed.capacity() * sizeof(PolygonId) + trace.key.incident.heapBytes();
   return bytes;
 }
 

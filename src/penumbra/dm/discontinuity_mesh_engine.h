@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "penumbra/base/rgb.h"
+#include "penumbra/base/small_ids.h"
 #include "penumbra/dm/backprojection.h"
 #include "penumbra/dm/discontinuity_surface.h"
 #include "penumbra/dm/edge_adjacency.h"
@@ -351,10 +352,10 @@ class DiscontinuityMeshEngine {
     PolygonId light = 0;
     int kind = 0, lightEdge = -1;
     // Each occluder edge's two ends (two or three edges; the rest zero), and its polygons, each
-    // edge's list ended by -1: one allocation per key (there are one per EEE surface, made
-    // again every frame).
+    // edge's list ended by -1: in the key itself, where they fit (there is one key per EEE
+    // surface, made again every frame: 245,000 in a 10,000-polygon room).
     std::array<Vec3, 6> ends{};
-    std::vector<PolygonId> incident;
+    SmallIds incident;
     bool operator==(const EeeKey&) const = default;
     std::size_t hash() const {
       std::size_t h = std::size_t(light) * 31 + std::size_t(kind) * 7 + std::size_t(lightEdge + 1);
@@ -363,10 +364,9 @@ class DiscontinuityMeshEngine {
       return h;
     }
   };
+  // (Its surface's cells are the surface's, at the same index of eeeSurfaces_.)
   struct EeeTrace {
     EeeKey key;
-    std::vector<int> cells;
-    bool truncated = false;
     std::vector<DiscontinuitySegment> segments;
     std::vector<PolygonId> crossed;
     std::vector<std::pair<Vec3, Vec3>> lines;  // the critical lines it followed (traceEeeSurface)
@@ -412,6 +412,14 @@ class DiscontinuityMeshEngine {
   std::map<PolygonId, CoplanarCrossingMemo> coplanarCrossings_;  // by light, ditto
   std::map<PolygonId, ParallelCrossingMemo> parallelCrossings_;  // by light, ditto
   std::map<PolygonId, ReceiverData> receivers_;
+  // The storage of the frame before the last's lists, emptied, which the next update fills
+  // again: a large room's lists (472,000 surfaces of 216 bytes, 245,000 traces) are larger than
+  // what the allocator keeps for reuse, so a fresh list every frame was mapped from the system
+  // and faulted in page by page (7% of a 10,000-polygon room's update).
+  std::vector<DiscontinuitySurface> spareSurfaces_;
+  std::vector<EeeTrace> spareTraces_;
+  std::vector<std::vector<DiscontinuitySegment>> spareVisible_;
+  std::vector<EeeSurface> spareEee_;
   DmStats stats_;
 };
 
