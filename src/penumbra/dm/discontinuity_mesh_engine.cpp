@@ -33,21 +33,27 @@ double secondsSince(Clock::time_point t) {
 }
 
 // The frame before's items by a hash of what makes them reusable, each taken at most once: one
-// sorted array, where a multimap made (and freed) a node per item every frame (472,000 planar
-// surfaces and 245,000 EEE traces in a 10,000-polygon room). An update enumerates its items in
-// nearly the frame before's order, so the item after the one taken last is tried first: most
-// are found there without a search through the array (a binary search's cache misses per item).
-// Which of two matching items is taken makes no difference: items that match are equal in all
-// that reusing them reads (castOrKeep, traceFrom).
+// open-addressed array of item numbers, where a multimap made (and freed) a node per item every
+// frame (472,000 planar surfaces and 245,000 EEE traces in a 10,000-polygon room), and sorting
+// (hash, item) pairs was 3% of that room's update. An update enumerates its items in nearly the
+// frame before's order, so the item after the one taken last is tried first: most are found
+// there without a search. Which of two matching items is taken makes no difference: items that
+// match are equal in all that reusing them reads (castOrKeep, traceFrom).
 class TakenOnce {
  public:
+  void reserve(std::size_t items) { hashOf_.reserve(items); }
   // The next item (items are numbered 0, 1, 2, ... in the order added).
-  void add(std::size_t hash) {
-    entries_.push_back({hash, hashOf_.size()});
-    hashOf_.push_back(hash);
-  }
+  void add(std::size_t hash) { hashOf_.push_back(hash); }
   void seal() {
-    std::sort(entries_.begin(), entries_.end());
+    std::size_t capacity = 16;
+    while (capacity < 2 * hashOf_.size()) capacity *= 2;
+    slots_.assign(capacity, kEmpty);
+    // Items of one hash lie along its probe sequence in the order added.
+    for (std::size_t item = 0; item < hashOf_.size(); ++item) {
+      std::size_t i = slotOf(hashOf_[item]);
+      while (slots_[i] != kEmpty) i = (i + 1) & (slots_.size() - 1);
+      slots_[i] = std::uint32_t(item);
+    }
     taken_.assign(hashOf_.size(), 0);
   }
   // Takes the item if it is not taken yet.
@@ -57,26 +63,35 @@ class TakenOnce {
     return true;
   }
   // An item of this hash, not taken yet, that `matches` (the one after the item taken last if
-  // it does, else the first by index); taken now.
+  // it does, else the first added); taken now.
   template <class Matches>
   std::optional<size_t> take(std::size_t hash, Matches&& matches) {
     if (next_ < hashOf_.size() && !taken_[next_] && hashOf_[next_] == hash && matches(next_))
       return takeItem(next_);
-    auto it = std::lower_bound(entries_.begin(), entries_.end(), std::pair{hash, size_t(0)});
-    for (; it != entries_.end() && it->first == hash; ++it)
-      if (!taken_[it->second] && matches(it->second)) return takeItem(it->second);
+    if (slots_.empty()) return std::nullopt;
+    for (std::size_t i = slotOf(hash); slots_[i] != kEmpty; i = (i + 1) & (slots_.size() - 1)) {
+      const std::size_t item = slots_[i];
+      if (hashOf_[item] == hash && !taken_[item] && matches(item)) return takeItem(item);
+    }
     return std::nullopt;
   }
 
  private:
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
+  std::size_t slotOf(std::size_t hash) const {
+    std::uint64_t z = std::uint64_t(hash) + 0x9e3779b97f4a7c15ull;  // SplitMix64's finalizer
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return std::size_t(z ^ (z >> 31)) & (slots_.size() - 1);
+  }
   size_t takeItem(size_t item) {
     taken_[item] = 1;
     next_ = item + 1;
     return item;
   }
-  std::vector<std::pair<std::size_t, size_t>> entries_;  // (hash, item), sorted
-  std::vector<std::size_t> hashOf_;                      // by item
-  std::vector<char> taken_;                              // by item
+  std::vector<std::uint32_t> slots_;  // item numbers, kEmpty where none
+  std::vector<std::size_t> hashOf_;   // by item
+  std::vector<char> taken_;           // by item
   size_t next_ = 0;
 };
 
@@ -462,6 +477,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // one several times and faulted in fresh pages for every copy (10% of a large room's update).
   surfaces_.reserve(previousSurfaces.size());
   TakenOnce previousByFan;
+  previousByFan.reserve(previousSurfaces.size());
   for (size_t i = 0; i < previousSurfaces.size(); ++i)
     previousByFan.add(fanHash(previousSurfaces[i]));
   previousByFan.seal();
@@ -721,6 +737,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   eeeTraces_.clear();
   eeeTraces_.reserve(previousTraces.size());
   TakenOnce previousByKey;
+  previousByKey.reserve(previousTraces.size());
   for (size_t i = 0; i < previousTraces.size(); ++i)
     previousByKey.add(previousTraces[i].key.hash());
   previousByKey.seal();
@@ -897,7 +914,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     eeeSurfaces_[k].id = SurfaceId(surfaces_.size() + k);
   // The polygons the light-edge surfaces' lines cross hold the third edges of the
   // three-occluder-edge surfaces whose lines leave the light through its edges.
-  std::map<PolygonId, std::vector<EeeCrossing>> crossings;
+  // (Their lists' storage is kept from frame to frame: a large room's run to millions.)
+  std::map<PolygonId, std::vector<EeeCrossing>>& crossings = eeeCrossings_;
+  for (auto& [light, list] : crossings) list.clear();
   traceFrom(0, &crossings);
   stats_.surfacesEee = int(eeeSurfaces_.size());
   const size_t lightEdgeSurfaces = eeeSurfaces_.size();
@@ -1124,8 +1143,9 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
   }
   for (const auto& [light, counted] : eeeCandidates_.byLight)
     bytes += counted.counts.memoryBytes() + counted.keys.capacity() * sizeof(std::uint64_t);
-  for (const auto& [key, found] : eeeCandidates_.byCrossing)
-    bytes += sizeof(key) + found.capacity() * sizeof(EeeCandidate);
+  bytes += eeeCandidates_.crossingIds.memoryBytes() +
+           eeeCandidates_.crossingRanges.capacity() * sizeof(eeeCandidates_.crossingRanges[0]) +
+           eeeCandidates_.crossingCandidates.capacity() * sizeof(EeeCandidate);
   for (const auto* memos : {&nonEmitter_, &occluderPlanes_})
     for (const auto& [light, memo] : *memos)
       for (const auto& entries : memo.byItem) {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/base/first_seen_ids.h"
 #include "penumbra/geometry/predicates.h"
 
 namespace penumbra {
@@ -20,61 +21,6 @@ CoordinateKey keyOf(const Vec3& p) {
   const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v == 0 ? 0.0 : v); };
   return {bits(p.x), bits(p.y), bits(p.z)};
 }
-
-// Ids by key, numbered in the order keys are first seen, in one array (open addressing): the
-// adjacency is built again every frame, and a tree of a node per vertex and per edge (40,000 each
-// in a 10,000-polygon room) was 3% of that room's update.
-template <class Key>
-class FirstSeenIds {
- public:
-  explicit FirstSeenIds(std::size_t expected) {
-    std::size_t capacity = 16;
-    while (capacity < 2 * expected) capacity *= 2;
-    slots_.assign(capacity, Slot{});
-  }
-  // The key's id, and whether it is new (then `next`, which the caller counts on).
-  std::pair<int, bool> idOf(const Key& key, int next) {
-    if (2 * (size_ + 1) > slots_.size()) grow();
-    const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = slotOf(key, mask);; i = (i + 1) & mask) {
-      if (slots_[i].id < 0) {
-        slots_[i] = {key, next};
-        ++size_;
-        return {next, true};
-      }
-      if (slots_[i].key == key) return {slots_[i].id, false};
-    }
-  }
-
- private:
-  struct Slot {
-    Key key{};
-    int id = -1;
-  };
-  static std::size_t slotOf(const Key& key, std::size_t mask) {
-    std::uint64_t h = 0;
-    for (const auto word : key) {
-      std::uint64_t z = (h ^ std::uint64_t(word)) + 0x9e3779b97f4a7c15ull;  // SplitMix64
-      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-      h = z ^ (z >> 31);
-    }
-    return std::size_t(h) & mask;
-  }
-  void grow() {
-    std::vector<Slot> old = std::move(slots_);
-    slots_.assign(2 * old.size(), Slot{});
-    const std::size_t mask = slots_.size() - 1;
-    for (const Slot& slot : old) {
-      if (slot.id < 0) continue;
-      std::size_t i = slotOf(slot.key, mask);
-      while (slots_[i].id >= 0) i = (i + 1) & mask;
-      slots_[i] = slot;
-    }
-  }
-  std::vector<Slot> slots_;
-  std::size_t size_ = 0;
-};
 
 bool arePolygonsCoplanar(const Polygon3& p, const Polygon3& q) {
   // Three non-collinear vertices of p span its plane; every vertex of q must lie on it (exact).

@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/base/first_seen_ids.h"
 #include "penumbra/base/key_counts.h"
 #include "penumbra/dm/discontinuity_surface.h"
 #include "penumbra/dm/edge_adjacency.h"
@@ -97,8 +98,12 @@ struct SurfaceCandidates {
 struct EeeCandidateMemo {
   std::vector<SurfaceCandidates> bySurface;  // by EV surface index
   // Three-edge candidates from a light-edge surface's crossed polygon, by (light, first edge,
-  // second edge, polygon).
-  std::map<std::array<int, 4>, std::vector<EeeCandidate>> byCrossing;
+  // second edge, polygon): each crossing's candidates are `crossingCandidates[begin, end)` of
+  // its range, the crossing's id in `crossingIds`. (Flat lists, not a tree: a large room has
+  // hundreds of thousands of crossings, each made again every frame.)
+  FirstSeenIds<std::array<int, 4>> crossingIds;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> crossingRanges;  // by crossing id
+  std::vector<EeeCandidate> crossingCandidates;
   long long keptCuts = 0, foundCuts = 0;  // cuts (and crossings) taken over, and examined
   // Per light, its light-edge candidates (packed keys) counted by the cuts that list them, and
   // the keys counted, ascending: an update counts the candidates of the cuts that changed up or
