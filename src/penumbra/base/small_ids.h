@@ -1,18 +1,24 @@
 #pragma once
-// A short list of ids held in the object itself, on the heap only past kInline ids: for keys made
-// by the hundred thousand every frame (the discontinuity mesh's EEE trace keys, each the polygons
-// of two or three edges), where a vector's allocation per key cost more than the key's use.
+// A short list of ids held in the object itself, on the heap only past N ids: for lists made by
+// the hundred thousand every frame (the discontinuity mesh's surfaces' hinge polygons, its EEE
+// trace keys, each the polygons of two or three edges), where a vector's allocation per list
+// cost more than the list's use.
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <initializer_list>
 #include <vector>
 
 namespace penumbra {
 
+template <std::size_t N>
 class SmallIds {
  public:
-  static constexpr std::size_t kInline = 12;
+  static constexpr std::size_t kInline = N;
+
+  SmallIds() = default;
+  SmallIds(std::initializer_list<int> ids) { append(ids.begin(), ids.end()); }
 
   void push_back(int id) {
     if (size_ < kInline) {
@@ -23,7 +29,23 @@ class SmallIds {
     }
     ++size_;
   }
+  template <class Iterator>
+  void append(Iterator first, Iterator last) {
+    for (; first != last; ++first) push_back(*first);
+  }
+  template <class Iterator>
+  void assign(Iterator first, Iterator last) {
+    clear();
+    append(first, last);
+  }
+  void clear() {
+    size_ = 0;
+    heap_.clear();
+  }
   std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  int operator[](std::size_t i) const { return begin()[i]; }
+  int front() const { return begin()[0]; }
   const int* begin() const { return size_ <= kInline ? inline_.data() : heap_.data(); }
   const int* end() const { return begin() + size_; }
   // Bytes held on the heap.

@@ -355,7 +355,7 @@ class DiscontinuityMeshEngine {
     // edge's list ended by -1: in the key itself, where they fit (there is one key per EEE
     // surface, made again every frame: 245,000 in a 10,000-polygon room).
     std::array<Vec3, 6> ends{};
-    SmallIds incident;
+    SmallIds<12> incident;
     bool operator==(const EeeKey&) const = default;
     std::size_t hash() const {
       std::size_t h = std::size_t(light) * 31 + std::size_t(kind) * 7 + std::size_t(lightEdge + 1);

@@ -17,6 +17,7 @@
 
 #include <vector>
 
+#include "penumbra/base/small_ids.h"
 #include "penumbra/scene/posed_scene.h"
 
 namespace penumbra {
@@ -97,6 +98,10 @@ struct SurfaceIntersection {
   bool boundaryAt0 = false, boundaryAt1 = false;
 };
 
+// The polygons incident to a surface's generators: two to six in all but degenerate scenes, held
+// in the surface (a large room makes half a million surfaces every frame).
+using HingePolygons = SmallIds<6>;
+
 struct DiscontinuitySurface {
   SurfaceId id = 0;
   SurfaceKind kind = SurfaceKind::kEmitterVertexOccluderEdge;
@@ -105,7 +110,7 @@ struct DiscontinuitySurface {
   int occluderFeature = 0;  // EdgeId or VertexId of EdgeAdjacency
   int secondFeature = -1;   // non-emitter EV: the EdgeId of the second contact
   // Polygons incident to the hinge (and second contact): never block the event.
-  std::vector<PolygonId> hingePolygons;
+  HingePolygons hingePolygons;
   CriticalFan fan;
   std::vector<int> cells;                          // grid cells the fan crosses (sorted)
   std::vector<SurfaceIntersection> intersections;  // stored before visibility

@@ -178,7 +178,7 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
       s.light = light;
       s.lightFeature = int(i);
       s.occluderFeature = edgeId;
-      s.hingePolygons = edge.polygons;
+      s.hingePolygons.assign(edge.polygons.begin(), edge.polygons.end());
       s.fan = {lv[i], lv[i], a, b, {}};
       surfaces.push_back(std::move(s));
     }
@@ -196,7 +196,7 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
       s.light = light;
       s.lightFeature = int(i);
       s.occluderFeature = VertexId(v);
-      s.hingePolygons = vertex.polygons;
+      s.hingePolygons.assign(vertex.polygons.begin(), vertex.polygons.end());
       s.fan = {lv[i], lv[(i + 1) % lv.size()], vertex.position, vertex.position, {}};
       surfaces.push_back(std::move(s));
     }
@@ -244,8 +244,8 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
         s.lightFeature = -1;
         s.occluderFeature = VertexId(vi);
         s.secondFeature = edgeId;
-        s.hingePolygons = vertex.polygons;
-        s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+        s.hingePolygons.assign(vertex.polygons.begin(), vertex.polygons.end());
+        s.hingePolygons.append(edge.polygons.begin(), edge.polygons.end());
         s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v, {}};
         s.fan.contacts = {{a, b}};
         out.push_back(std::move(s));
@@ -350,7 +350,7 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
         s.lightFeature = int(i);
         s.occluderFeature = edgeId;
         s.secondFeature = q.id;
-        s.hingePolygons = touching;
+        s.hingePolygons.assign(touching.begin(), touching.end());
         s.fan = {t, t, a, b, {}};
         s.fan.contacts = outline;
         surfaces.push_back(std::move(s));
@@ -393,8 +393,8 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
           s.lightFeature = -1;
           s.occluderFeature = edgeId;
           s.secondFeature = q.id;
-          s.hingePolygons = touching;
-          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+          s.hingePolygons.assign(touching.begin(), touching.end());
+          s.hingePolygons.append(edge.polygons.begin(), edge.polygons.end());
           s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, outline};
           out.push_back(std::move(s));
         }
@@ -443,7 +443,7 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
         s.lightFeature = -1;
         s.occluderFeature = corners[k];
         s.secondFeature = q.id;
-        s.hingePolygons = hinge;
+        s.hingePolygons.assign(hinge.begin(), hinge.end());
         s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, v, v, outline};
         surfaces.push_back(std::move(s));
       }
@@ -507,8 +507,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
     s.lightFeature = pair.lightEdge;
     s.occluderFeature = pair.first;
     s.secondFeature = pair.second;
-    s.hingePolygons = first.polygons;
-    s.hingePolygons.insert(s.hingePolygons.end(), second.polygons.begin(), second.polygons.end());
+    s.hingePolygons.assign(first.polygons.begin(), first.polygons.end());
+    s.hingePolygons.append(second.polygons.begin(), second.polygons.end());
     s.fan = {t, t, a + e * u0, a + e * u1, {{c, d}}};
     surfaces.push_back(std::move(s));
   }
@@ -602,8 +602,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
           s.lightFeature = -1;
           s.occluderFeature = edgeId;
           s.secondFeature = firstEdge;
-          s.hingePolygons = touching;
-          s.hingePolygons.insert(s.hingePolygons.end(), edge.polygons.begin(), edge.polygons.end());
+          s.hingePolygons.assign(touching.begin(), touching.end());
+          s.hingePolygons.append(edge.polygons.begin(), edge.polygons.end());
           s.fan = {t0 + (t1 - t0) * w0, t0 + (t1 - t0) * w1, x, x, {{a, b}, {c, d}}};
           out.push_back(std::move(s));
         }
@@ -814,8 +814,8 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
           s.lightFeature = int(lightEdge);
           s.occluderFeature = edgeId;
           s.secondFeature = polygons.front();
-          s.hingePolygons = edge.polygons;
-          s.hingePolygons.insert(s.hingePolygons.end(), polygons.begin(), polygons.end());
+          s.hingePolygons.assign(edge.polygons.begin(), edge.polygons.end());
+          s.hingePolygons.append(polygons.begin(), polygons.end());
           s.fan = {s0 + (s1 - s0) * w0, s0 + (s1 - s0) * w1, x.x, x.x, {{a, b}}};
           surfaces.push_back(std::move(s));
           if (reuse) reuse->takenFrom.push_back(-1);
