@@ -50,8 +50,8 @@ TEST(EmitterSurfaces, VisibleSegmentsSatisfyTheirEventDefinition) {
   const ExactReference reference(scene, &grid);
   ASSERT_EQ(scene.lights.size(), 1u);
   const PolygonId light = scene.lights[0];
-  std::vector<DiscontinuitySurface> surfaces =
-      enumerateEmitterEvSurfaces(scene, adjacency, light, 0);
+  std::vector<DiscontinuitySurface> surfaces;
+  enumerateEmitterEvSurfaces(scene, adjacency, light, surfaces);
   ASSERT_FALSE(surfaces.empty());
   const double size = scene.bounds.diagonalLength();
   int segments = 0, checked = 0;
@@ -102,8 +102,8 @@ TEST(EmitterSurfaces, CastingStoresEveryPolygonEveryCriticalLineMeets) {
   const PosedScene scene = roomWithBoxes().pose();
   const EdgeAdjacency adjacency(scene);
   const UniformGrid grid(scene, GridResolution{6, 6, 5});
-  std::vector<DiscontinuitySurface> surfaces =
-      enumerateEmitterEvSurfaces(scene, adjacency, scene.lights[0], 0);
+  std::vector<DiscontinuitySurface> surfaces;
+  enumerateEmitterEvSurfaces(scene, adjacency, scene.lights[0], surfaces);
   const double size = scene.bounds.diagonalLength();
   int pierces = 0;
   for (DiscontinuitySurface& surface : surfaces) {

@@ -592,15 +592,13 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   };
   auto start = Clock::now();
   for (PolygonId light : scene.lights) {
-    std::vector<DiscontinuitySurface> surfaces =
-        enumerateEmitterEvSurfaces(scene, *adjacency_, light, SurfaceId(surfaces_.size()));
-    for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
+    enumerateEmitterEvSurfaces(scene, *adjacency_, light, surfaces_);
     NonEmitterEvMemo& memo = nonEmitter_[light];
     const std::optional<NonEmitterEvReuse> nonEmitterReuse =
         reuseOf(previousNonEmitter, light, &UnchangedTopology::vertices);
-    surfaces = enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light,
-                                             SurfaceId(surfaces_.size()), &memo,
-                                             nonEmitterReuse ? &*nonEmitterReuse : nullptr);
+    std::vector<DiscontinuitySurface> surfaces = enumerateNonEmitterEvSurfaces(
+        scene, *adjacency_, *grid_, light, SurfaceId(surfaces_.size()), &memo,
+        nonEmitterReuse ? &*nonEmitterReuse : nullptr);
     stats_.keptNonEmitterVertices += memo.kept;
     stats_.examinedNonEmitterVertices += memo.examined;
     for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
@@ -812,7 +810,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   const std::vector<PolygonId> eeeLights =
       options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
   // Planar surfaces made from what casting found: parallel-edge crossings and coplanar edges.
-  std::vector<DiscontinuitySurface> afterCasting;
+  // (In storage kept from frame to frame, as the surfaces' own list.)
+  std::vector<DiscontinuitySurface>& afterCasting = afterCastingStorage_;
+  afterCasting.clear();
   // Their planes' surfaces are read from the frame before's where the planes' fans kept their
   // casts (not when a light moved: every plane depends on it).
   std::map<PolygonId, ParallelCrossingMemo> previousParallel = std::move(parallelCrossings_);
@@ -906,6 +906,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   }
   stats_.surfacesCoplanarEdges = int(afterCasting.size()) - stats_.surfacesParallelEdgeCrossing -
                                  stats_.surfacesCoplanarEdgeCrossing;
+  afterCasting.clear();  // all moved into surfaces_
   // The frame before's surfaces whose pieces no surface took over (visible_ holds a surface's
   // pieces at its index).
   for (size_t i = 0; change && i < std::min(previousPlanar, previousVisible.size()); ++i)

@@ -420,6 +420,7 @@ class DiscontinuityMeshEngine {
   std::vector<EeeTrace> spareTraces_;
   std::vector<std::vector<DiscontinuitySegment>> spareVisible_;
   std::vector<EeeSurface> spareEee_;
+  std::vector<DiscontinuitySurface> afterCastingStorage_;  // emptied after each computation
   // Per light, the polygons its light-edge EEE surfaces' lines cross (for the three-edge ones),
   // made again every frame in this storage.
   std::map<PolygonId, std::vector<EeeCrossing>> eeeCrossings_;

@@ -153,10 +153,8 @@ void takeOverRun(std::vector<DiscontinuitySurface>& surfacesBefore, SurfaceId fi
 
 }  // namespace
 
-std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& scene,
-                                                             const EdgeAdjacency& adjacency,
-                                                             PolygonId light, SurfaceId firstId) {
-  std::vector<DiscontinuitySurface> surfaces;
+void enumerateEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                PolygonId light, std::vector<DiscontinuitySurface>& surfaces) {
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
@@ -173,7 +171,7 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
     for (size_t i = 0; i < lv.size(); ++i) {
       if (!adjacency.isSilhouetteFrom(edgeId, lv[i])) continue;
       DiscontinuitySurface s;
-      s.id = firstId + SurfaceId(surfaces.size());
+      s.id = SurfaceId(surfaces.size());
       s.kind = SurfaceKind::kEmitterVertexOccluderEdge;
       s.light = light;
       s.lightFeature = int(i);
@@ -191,7 +189,7 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
     if (!adjacency.canVertexBeSilhouette(VertexId(v))) continue;
     for (size_t i = 0; i < lv.size(); ++i) {
       DiscontinuitySurface s;
-      s.id = firstId + SurfaceId(surfaces.size());
+      s.id = SurfaceId(surfaces.size());
       s.kind = SurfaceKind::kEmitterEdgeOccluderVertex;
       s.light = light;
       s.lightFeature = int(i);
@@ -201,7 +199,6 @@ std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& s
       surfaces.push_back(std::move(s));
     }
   }
-  return surfaces;
 }
 
 std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(

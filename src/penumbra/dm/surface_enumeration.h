@@ -13,9 +13,11 @@
 
 namespace penumbra {
 
-std::vector<DiscontinuitySurface> enumerateEmitterEvSurfaces(const PosedScene& scene,
-                                                             const EdgeAdjacency& adjacency,
-                                                             PolygonId light, SurfaceId firstId);
+// The EV surfaces of `light`'s vertices and edges with the occluders' edges and vertices,
+// appended to `surfaces` and numbered on from its size (appended in place: a large room's half
+// a million are made every frame).
+void enumerateEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                PolygonId light, std::vector<DiscontinuitySurface>& surfaces);
 
 // What an enumeration found per item (a vertex of the non-emitter EV fans, a polygon whose
 // plane gives occluder-plane crossings), kept for the next frame: by item id, the polygons of the
