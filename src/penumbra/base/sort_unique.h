@@ -14,6 +14,11 @@ namespace penumbra {
 // Sorts the keys ascending and drops repeats: a least-significant-digit radix sort over the
 // 16-bit digits that vary among them.
 inline void sortUnique(std::vector<std::uint64_t>& keys) {
+  // Keys made in order (most frames' lists) only have their repeats dropped.
+  if (std::is_sorted(keys.begin(), keys.end())) {
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return;
+  }
   std::uint64_t all = ~std::uint64_t(0), any = 0;
   for (const std::uint64_t key : keys) {
     all &= key;

@@ -538,6 +538,42 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   using Entries = PolygonEntries;
   for (const std::uint64_t key : unique) {
     const std::pair<EdgeId, EdgeId> pair{EdgeId(key >> 32), EdgeId(key & 0xffffffffu)};
+    // The frame before's entry for the pair, where its two edges are as they were.
+    const CoplanarCrossingMemo::Pair* before = nullptr;
+    if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
+        reuse->unchangedEdges[size_t(pair.second)]) {
+      const auto& kept = reuse->before.pairs;
+      const auto it = std::lower_bound(kept.begin(), kept.end(), pair,
+                                       [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
+                                         return std::pair(k.first, k.second) < p;
+                                       });
+      if (it != kept.end() && it->first == pair.first && it->second == pair.second) before = &*it;
+    }
+    // Its region is a function of its edges and the light, the same as then: where no moved
+    // polygon is listed in it, the pair's surfaces are the frame before's, taken over whole
+    // without computing its plane and region again.
+    if (before &&
+        std::none_of(reuse->movedPolygons.begin(), reuse->movedPolygons.end(), [&](PolygonId id) {
+          return grid.listsPolygonInBox(id, scene.polygons[id].bounds, before->region);
+        })) {
+      // (A moved polygon listed there before and not now gave surfaces then: dropped.)
+      std::vector<SurfaceRun> runs;
+      PolygonEntries none;
+      forEachMergedWithMoved(
+          before->entries, none, reuse->movedPolygons,
+          [](const SurfaceRun& run) { return run.polygon; },
+          [&](const SurfaceRun& run) {
+            runs.push_back({run.polygon, firstId + SurfaceId(surfaces.size()), run.count});
+            takeOverRun(reuse->surfacesBefore, run.first, run.count, firstId, surfaces,
+                        reuse->takenFrom);
+          },
+          [](auto&) {});
+      if (memo) {
+        ++memo->keptPairs;
+        memo->pairs.push_back({pair.first, pair.second, std::move(runs), before->region});
+      }
+      continue;
+    }
     const EdgeId firstEdge = pair.first;
     const SceneEdge &first = adjacency.edges()[pair.first],
                     &second = adjacency.edges()[pair.second];
@@ -639,16 +675,6 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       runs.push_back({run.polygon, firstId + SurfaceId(surfaces.size()), run.count});
       takeOverRun(reuse->surfacesBefore, run.first, run.count, firstId, surfaces, reuse->takenFrom);
     };
-    const CoplanarCrossingMemo::Pair* before = nullptr;
-    if (reuse && reuse->unchangedEdges[size_t(pair.first)] &&
-        reuse->unchangedEdges[size_t(pair.second)]) {
-      const auto& kept = reuse->before.pairs;
-      const auto it = std::lower_bound(kept.begin(), kept.end(), pair,
-                                       [](const CoplanarCrossingMemo::Pair& k, const auto& p) {
-                                         return std::pair(k.first, k.second) < p;
-                                       });
-      if (it != kept.end() && it->first == pair.first && it->second == pair.second) before = &*it;
-    }
     if (before) {
       // The same edges, light and region: the polygons that did not move are listed in the same
       // cells and give what they gave (sharing no edge with a moved one, they examine the same
@@ -668,7 +694,7 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       for (auto& [id, found] : entries) append(id, found);
       if (memo) ++memo->examinedPairs;
     }
-    if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(runs)});
+    if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(runs), region});
   }
   return surfaces;
 }

@@ -93,6 +93,7 @@ struct CoplanarCrossingMemo {
   struct Pair {
     EdgeId first = 0, second = 0;
     std::vector<SurfaceRun> entries;  // by polygon
+    Box3 region;                      // where its crossings can lie (a function of its edges)
   };
   std::vector<Pair> pairs;
   long long keptPairs = 0, examinedPairs = 0;
