@@ -471,6 +471,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // cuts the same polygons the same way (the paper's per-cell test), so its cast is kept.
   std::vector<DiscontinuitySurface> previousSurfaces;
   if (change) previousSurfaces = std::move(surfaces_);
+  surfaces_ = std::move(spareSurfaces_);
   surfaces_.clear();
   // Sized as the frame before: growing a list of half a million surfaces by doubling moved each
   // one several times and faulted in fresh pages for every copy (10% of a large room's update).
@@ -653,6 +654,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // A surface's visible pieces are a function of its fan, hinge polygons and cuts: a kept cast
   // with the same hinge polygons has those of the frame before (under its new id).
   std::vector<std::vector<DiscontinuitySegment>> previousVisible = std::move(visible_);
+  visible_ = std::move(spareVisible_);
   visible_.clear();
   visible_.reserve(previousVisible.size());
   // By receiver id (lists indexed by polygon, not maps: every visible segment of the scene is
@@ -702,6 +704,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // over.
   std::vector<EeeSurface> previousEee;
   if (change) previousEee = std::move(eeeSurfaces_);
+  eeeSurfaces_ = std::move(spareEee_);
   eeeSurfaces_.clear();
   const double chord = kEeeChordTolerance * scene.extent.diagonalLength();
   std::vector<std::vector<std::pair<Vec3, Vec3>>> eeeOnReceiver(scene.polygons.size());
@@ -728,6 +731,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // kept (not when a light moved: the lines start on it).
   std::vector<EeeTrace> previousTraces;
   if (change) previousTraces = std::move(eeeTraces_);
+  eeeTraces_ = std::move(spareTraces_);
   eeeTraces_.clear();
   eeeTraces_.reserve(previousTraces.size());
   TakenOnce previousByKey;
@@ -1117,6 +1121,18 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_.secondsBackprojections = backprojectionSeconds - stats_.secondsVerification;
   stats_.secondsMeshing = receiverSeconds - backprojectionSeconds;
   tallyReceivers();
+  // Their storage kept for the next update (see spareSurfaces_); a build keeps none. (The
+  // computation's peak is the same either way: both frames' lists exist while it runs.)
+  if (change) {
+    previousSurfaces.clear();
+    spareSurfaces_ = std::move(previousSurfaces);
+    previousTraces.clear();
+    spareTraces_ = std::move(previousTraces);
+    previousVisible.clear();
+    spareVisible_ = std::move(previousVisible);
+    previousEee.clear();
+    spareEee_ = std::move(previousEee);
+  }
   stats_.updateCacheBytes = updateCacheBytes();
 }
 
@@ -1153,6 +1169,10 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
     bytes += crossings.capacity() * sizeof(EeeCrossing);
   for (const auto& pieces : visible_)
     bytes += sizeof(pieces) + pieces.capacity() * sizeof(DiscontinuitySegment);
+  bytes += spareSurfaces_.capacity() * sizeof(DiscontinuitySurface) +
+           spareTraces_.capacity() * sizeof(EeeTrace) +
+           spareVisible_.capacity() * sizeof(spareVisible_[0]) +
+           spareEee_.capacity() * sizeof(EeeSurface);
   for (const EeeTrace& trace : eeeTraces_)
     bytes += sizeof(trace) + trace.segments.capacity() * sizeof(DiscontinuitySegment) +
              trace.lines.capacity() * sizeof(trace.lines[0]) +
