@@ -523,6 +523,19 @@ bool generatorsUnchanged(const DiscontinuitySurface& s, const SurfaceCandidates&
   return s.secondFeature < 0 || unchanged.edges[size_t(s.secondFeature)];
 }
 
+// Calls visit(polygon) for each polygon `s` cuts, once each in ascending order (cuts are in polygon
+// order; a polygon cut twice gives the same candidates twice), while visit returns true: whether
+// every call did.
+template <class Visit>
+bool forEachCutPolygon(const DiscontinuitySurface& s, Visit&& visit) {
+  for (size_t c = 0; c < s.intersections.size(); ++c) {
+    const PolygonId polygon = s.intersections[c].polygon;
+    if (c > 0 && s.intersections[c - 1].polygon == polygon) continue;
+    if (!visit(polygon)) return false;
+  }
+  return true;
+}
+
 // The candidates of EV surface `index` (`s`), cut polygon by cut polygon in ascending order: taken
 // from the frame before where the generators and the polygon are unchanged, else found by
 // `find(polygon, found)`, and recorded in `memo`. Those found are handed to `add`, and so are
@@ -548,14 +561,10 @@ void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidate
   // cut's entry again (1,245,000 cuts in a 10,000-polygon room).
   if (before && memo) {
     size_t cuts = 0;
-    bool same = true;
-    for (size_t c = 0; same && c < s.intersections.size(); ++c) {
-      const PolygonId polygon = s.intersections[c].polygon;
-      if (c > 0 && s.intersections[c - 1].polygon == polygon) continue;
-      same = cuts < before->cuts.size() && before->cuts[cuts].polygon == polygon &&
+    const bool same = forEachCutPolygon(s, [&](PolygonId polygon) {
+      return cuts < before->cuts.size() && before->cuts[cuts++].polygon == polygon &&
              reuse->unchanged.polygons[size_t(polygon)];
-      ++cuts;
-    }
+    });
     if (same && cuts == before->cuts.size()) {
       now.cuts = std::move(before->cuts);
       before->cuts.clear();
@@ -570,10 +579,7 @@ void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidate
   }
   if (memo) now.cuts.reserve(s.intersections.size());
   size_t k = 0;
-  for (size_t c = 0; c < s.intersections.size(); ++c) {
-    const PolygonId polygon = s.intersections[c].polygon;
-    // Cuts are in polygon order; a polygon cut twice gives the same candidates twice.
-    if (c > 0 && s.intersections[c - 1].polygon == polygon) continue;
+  forEachCutPolygon(s, [&](PolygonId polygon) {
     CutCandidates cut{polygon, {}};
     bool kept = false;
     if (before) {
@@ -599,7 +605,8 @@ void surfaceCandidates(const DiscontinuitySurface& s, size_t index, EeeCandidate
       for (const EeeCandidate& candidate : cut.found) add(candidate);
     }
     if (memo) now.cuts.push_back(std::move(cut));
-  }
+    return true;
+  });
   if (before) {
     for (; k < before->cuts.size(); ++k) removeAll(before->cuts[k]);
     before->cuts.clear();

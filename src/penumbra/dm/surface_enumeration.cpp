@@ -549,30 +549,47 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
                                        });
       if (it != kept.end() && it->first == pair.first && it->second == pair.second) before = &*it;
     }
-    // Its region is a function of its edges and the light, the same as then: where no moved
-    // polygon is listed in it, the pair's surfaces are the frame before's, taken over whole
-    // without computing its plane and region again.
-    if (before &&
-        std::none_of(reuse->movedPolygons.begin(), reuse->movedPolygons.end(), [&](PolygonId id) {
-          return grid.listsPolygonInBox(id, scene.polygons[id].bounds, before->region);
-        })) {
-      // (A moved polygon listed there before and not now gave surfaces then: dropped.)
-      std::vector<SurfaceRun> runs;
-      PolygonEntries none;
+    // The pair's surfaces, numbered on, by polygon: those found now, and those of the frame
+    // before taken over whole.
+    std::vector<SurfaceRun> runs;
+    const auto append = [&](PolygonId polygon, std::vector<DiscontinuitySurface>& found) {
+      runs.push_back({polygon, firstId + SurfaceId(surfaces.size()), int(found.size())});
+      for (DiscontinuitySurface& s : found) {
+        s.id = firstId + SurfaceId(surfaces.size());
+        surfaces.push_back(std::move(s));
+        if (reuse) reuse->takenFrom.push_back(-1);
+      }
+    };
+    // The frame before's runs merged with the surfaces found now on the moved polygons (a moved
+    // polygon listed in the region before and not now gave surfaces then: dropped). Each pair of
+    // the frame before is read once (the pairs are unique).
+    const auto takeOverMergedWith = [&](PolygonEntries& moved) {
       forEachMergedWithMoved(
-          before->entries, none, reuse->movedPolygons,
+          before->entries, moved, reuse->movedPolygons,
           [](const SurfaceRun& run) { return run.polygon; },
           [&](const SurfaceRun& run) {
             runs.push_back({run.polygon, firstId + SurfaceId(surfaces.size()), run.count});
             takeOverRun(reuse->surfacesBefore, run.first, run.count, firstId, surfaces,
                         reuse->takenFrom);
           },
-          [](auto&) {});
-      if (memo) {
-        ++memo->keptPairs;
-        memo->pairs.push_back({pair.first, pair.second, std::move(runs), before->region});
+          [&](auto& entry) { append(entry.first, entry.second); });
+      if (memo) ++memo->keptPairs;
+    };
+    // Its region is a function of its edges and the light, the same as then: the polygons that
+    // did not move are listed in the same cells and give what they gave (sharing no edge with a
+    // moved one, they examine the same edges first). Only the moved polygons listed there now are
+    // examined again; where there are none, the pair's plane and region are not computed.
+    std::vector<PolygonId> movedInRegion;
+    if (before) {
+      for (PolygonId id : reuse->movedPolygons)
+        if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, before->region))
+          movedInRegion.push_back(id);
+      if (movedInRegion.empty()) {
+        PolygonEntries none;
+        takeOverMergedWith(none);
+        if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(runs), before->region});
+        continue;
       }
-      continue;
     }
     const EdgeId firstEdge = pair.first;
     const SceneEdge &first = adjacency.edges()[pair.first],
@@ -660,34 +677,10 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
       if (entries.back().second.empty()) entries.pop_back();
     };
     ++stamp;
-    // The pair's surfaces, numbered on, by polygon: those found now, and those of the frame
-    // before taken over whole.
-    std::vector<SurfaceRun> runs;
-    const auto append = [&](PolygonId polygon, std::vector<DiscontinuitySurface>& found) {
-      runs.push_back({polygon, firstId + SurfaceId(surfaces.size()), int(found.size())});
-      for (DiscontinuitySurface& s : found) {
-        s.id = firstId + SurfaceId(surfaces.size());
-        surfaces.push_back(std::move(s));
-        if (reuse) reuse->takenFrom.push_back(-1);
-      }
-    };
-    const auto takeOver = [&](const SurfaceRun& run) {
-      runs.push_back({run.polygon, firstId + SurfaceId(surfaces.size()), run.count});
-      takeOverRun(reuse->surfacesBefore, run.first, run.count, firstId, surfaces, reuse->takenFrom);
-    };
     if (before) {
-      // The same edges, light and region: the polygons that did not move are listed in the same
-      // cells and give what they gave (sharing no edge with a moved one, they examine the same
-      // edges first); a moved polygon listed in the region's cells now is examined again.
-      // Each pair of the frame before is read once (the pairs are unique).
       Entries moved;
-      for (PolygonId id : reuse->movedPolygons)
-        if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
-      forEachMergedWithMoved(
-          before->entries, moved, reuse->movedPolygons,
-          [](const SurfaceRun& run) { return run.polygon; }, takeOver,
-          [&](auto& entry) { append(entry.first, entry.second); });
-      if (memo) ++memo->keptPairs;
+      for (PolygonId id : movedInRegion) examined(id, moved);
+      takeOverMergedWith(moved);
     } else {
       Entries entries;  // (polygon, the surfaces of its edges first examined there), by polygon
       for (PolygonId id : grid.polygonsInBox(region)) examined(id, entries);
