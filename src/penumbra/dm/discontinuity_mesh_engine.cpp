@@ -427,14 +427,19 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
   // Where the polylines are the same and nothing moved through that box and the lights (below),
   // the inset points are not needed.
   if (sameEee && !isCrossed(bounds, change)) return true;
+  // Whether a point is near a polyline changes only where a polyline that changed (one of
+  // `eeeChanged`, the polylines of either frame missing from the other) is near it. Only the
+  // points inside the face can be its probes or its sample, and those lie in its box (up to a
+  // rounding, far below the padding): where no changed polyline comes near the box, no probe
+  // changes.
+  const double near = nearEee();
+  const bool probesMayChange = !sameEee && eeeChanged.mayBeNear(bounds, 2 * near);
+  if (!probesMayChange && !isCrossed(bounds, change)) return true;
   std::vector<Vec3> insets;
   for (const Polygon3& cycle : now.mesh.faceBoundary(face.index))
     for (size_t i = 0; i < cycle.size(); ++i)
       for (const Vec3& p : probeCandidates(cycle, i, face.samplePoint)) insets.push_back(p);
-  if (!sameEee) {
-    // Whether a point is near a polyline changes only where a polyline that changed (one of
-    // `eeeChanged`, the polylines of either frame missing from the other) is near it.
-    const double near = nearEee();
+  if (probesMayChange) {
     const auto differs = [&](const Vec3& p) {
       return eeeChanged.near(p, near) && now.eeeSegments.near(p, near) != eeeBefore.near(p, near);
     };

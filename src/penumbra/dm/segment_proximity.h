@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/geometry/box.h"
 #include "penumbra/geometry/vec3.h"
 
 namespace penumbra {
@@ -49,6 +50,22 @@ class SegmentProximity {
       return false;
     });
     return found;
+  }
+
+  // Whether some segment's bounds come within distanceBound of the box along every axis. False
+  // proves that no point of the box lies within distanceBound of any segment (the gap along one
+  // axis is larger); a caller whose points may lie a rounding outside the box pads the bound.
+  bool mayBeNear(const Box3& box, double distanceBound) const {
+    const double from = coordinate(box.min) - distanceBound,
+                 to = coordinate(box.max) + distanceBound;
+    auto it = std::lower_bound(lows_.begin(), lows_.end(), from - longest_);
+    for (size_t i = size_t(it - lows_.begin()); i < segments_.size() && lows_[i] <= to; ++i) {
+      const auto& [a, b] = segments_[i];
+      const Box3 reach{componentMin(a, b) - Vec3{1, 1, 1} * distanceBound,
+                       componentMax(a, b) + Vec3{1, 1, 1} * distanceBound};
+      if (reach.overlaps(box)) return true;
+    }
+    return false;
   }
 
   // Calls visit(index) with the index, in the order given to the constructor, of each segment
