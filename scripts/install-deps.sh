@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config clang-format
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libpolyclipping-dev
+  libjemalloc-dev  # the programs' allocator (CMakeLists.txt: PENUMBRA_JEMALLOC)
   libembree-dev libtbb-dev
   nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libstb-dev
   libcli11-dev
