@@ -123,9 +123,15 @@ void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const U
   surface.cells.clear();
   surface.intersections.clear();
   std::vector<PolygonId> candidates;
-  for (const Polygon3& piece : pieces)
-    grid.forEachCellOverlappingBox(boundingBox(piece), [&](int cell) {
-      if (!polygonCutsBox(piece, grid.cellBounds(cell))) return;
+  for (size_t k = 0; k < pieces.size(); ++k)
+    grid.forEachCellOverlappingBox(boundingBox(pieces[k]), [&](int cell) {
+      // Most cells of a piece's box lie off its plane. A cell the plane misses by more than the
+      // margin holds no point of the piece (the clip's points lie within rounding of the plane,
+      // far below the margin): the same answer as the clip, which is skipped.
+      const Box3 box = grid.cellBounds(cell);
+      const auto [low, high] = signedDistanceRange(fan.planes[k], box);
+      if (low > fan.margin || high < -fan.margin) return;
+      if (!polygonCutsBox(pieces[k], box)) return;
       surface.cells.push_back(cell);
       const auto& listed = grid.polygonsInCell(cell);
       candidates.insert(candidates.end(), listed.begin(), listed.end());
