@@ -304,10 +304,10 @@ bool sameFan(const DiscontinuitySurface& a, const DiscontinuitySurface& b) {
 }
 
 std::size_t fanHash(const DiscontinuitySurface& s) {
-  std::size_t h = std::hash<int>()(s.light);
+  std::uint64_t h = std::uint64_t(s.light);
   for (const Vec3& p : {s.fan.source0, s.fan.source1, s.fan.hinge0, s.fan.hinge1})
-    for (double c : {p.x, p.y, p.z}) h = h * 1000003u ^ std::hash<double>()(c);
-  return h;
+    for (double c : {p.x, p.y, p.z}) h = hashCombine(h, c);
+  return std::size_t(h);
 }
 
 // Are two segments the same (geometry and receiver, bit for bit), whatever surface made them?

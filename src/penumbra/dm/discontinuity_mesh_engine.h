@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "penumbra/base/hash_doubles.h"
 #include "penumbra/base/rgb.h"
 #include "penumbra/base/small_ids.h"
 #include "penumbra/dm/backprojection.h"
@@ -358,10 +359,11 @@ class DiscontinuityMeshEngine {
     SmallIds<12> incident;
     bool operator==(const EeeKey&) const = default;
     std::size_t hash() const {
-      std::size_t h = std::size_t(light) * 31 + std::size_t(kind) * 7 + std::size_t(lightEdge + 1);
+      std::uint64_t h =
+          std::uint64_t(light) * 31 + std::uint64_t(kind) * 7 + std::uint64_t(lightEdge + 1);
       for (const Vec3& p : ends)
-        for (double c : {p.x, p.y, p.z}) h = h * 1000003u ^ std::hash<double>()(c);
-      return h;
+        for (double c : {p.x, p.y, p.z}) h = hashCombine(h, c);
+      return std::size_t(h);
     }
   };
   // (Its surface's cells are the surface's, at the same index of eeeSurfaces_.)
