@@ -57,6 +57,66 @@ TEST(UniformGrid, PolygonCutsBoxAgreesWithDenseSampling) {
   EXPECT_TRUE(polygonCutsBox({{1, 0.2, 0.2}, {2, 0.2, 0.2}, {2, 0.8, 0.8}}, cell));
 }
 
+TEST(UniformGrid, PolygonCutsBoxAnswersAsTheClipAlone) {
+  // polygonCutsBox answers yes without clipping where a vertex lies strictly inside the box. The
+  // clip alone (the six planes, each through clipByPlane) is the reference: every answer must be
+  // the same, for polygons around, inside, on and beside a box, vertices on its faces, edges and
+  // corners, and degenerate loops (two vertices, repeated points).
+  Box3 box;
+  box.extend({0, 0, 0});
+  box.extend({1, 2, 0.5});
+  const auto byClipping = [&](const Polygon3& polygon) {
+    Polygon3 piece = polygon, next;
+    for (int axis = 0; axis < 3; ++axis) {
+      Vec3 normal;
+      normal[axis] = 1;
+      for (const Plane& plane : {Plane{normal, box.min[axis]}, Plane{-normal, -box.max[axis]}}) {
+        clipByPlane(piece, plane, next);
+        if (next.empty()) return false;
+        piece = next;
+      }
+    }
+    return true;
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-0.25, 1.25);
+  std::uniform_int_distribution<int> pick(0, 4), size(2, 5);
+  // A coordinate: random, or on one of the box's planes along that axis.
+  const auto coordinate = [&](int axis) {
+    switch (pick(rng)) {
+      case 0:
+        return box.min[axis];
+      case 1:
+        return box.max[axis];
+      default:
+        return u(rng) * (box.max[axis] - box.min[axis]);
+    }
+  };
+  int yes = 0, no = 0, quick = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Polygon3 polygon;
+    const int n = size(rng);
+    for (int k = 0; k < n; ++k) {
+      if (k > 0 && pick(rng) == 0) {
+        polygon.push_back(polygon.back());  // a repeated point
+        continue;
+      }
+      polygon.push_back({coordinate(0), coordinate(1), coordinate(2)});
+    }
+    const bool expected = byClipping(polygon);
+    ASSERT_EQ(polygonCutsBox(polygon, box), expected) << "polygon " << i;
+    (expected ? yes : no)++;
+    quick += polygon.size() >= 3 && std::any_of(polygon.begin(), polygon.end(), [&](const Vec3& v) {
+               return v.x > box.min.x && v.x < box.max.x && v.y > box.min.y && v.y < box.max.y &&
+                      v.z > box.min.z && v.z < box.max.z;
+             });
+  }
+  // Both answers, and the shortcut taken, occur many times.
+  EXPECT_GT(yes, 2000);
+  EXPECT_GT(no, 2000);
+  EXPECT_GT(quick, 1000);
+}
+
 TEST(UniformGrid, SegmentVisitsExactlyTheCellsItCrosses) {
   const PosedScene scene = randomTriangles(100, 2);
   const UniformGrid grid(scene, GridResolution{7, 7, 7});
