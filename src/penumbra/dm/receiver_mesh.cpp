@@ -19,6 +19,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "penumbra/base/hash_doubles.h"
+
 namespace penumbra {
 
 namespace {
@@ -74,10 +76,10 @@ struct SnapKey {
 };
 struct SnapKeyHash {
   size_t operator()(const SnapKey& key) const {
-    size_t hash = 0;
+    std::uint64_t hash = 0;
     for (const auto* half : {&key.own, &key.reference})
-      for (double x : *half) hash = hash * 1000003u ^ (x == 0 ? size_t(0) : std::hash<double>{}(x));
-    return hash;
+      for (double x : *half) hash = hashCombine(hash, x);
+    return size_t(hash);
   }
 };
 struct SnapOutcome {
@@ -938,12 +940,11 @@ std::vector<int> ReceiverMesh::update(const std::vector<DiscontinuitySegment>& s
     // Zeros of either sign compare equal: they hash alike. The line a piece was snapped onto is
     // left out: another member of its snap group on the same exact line (a moving event's
     // segment joining a row of static ones) gives the same piece from other doubles.
-    const auto hashOf = [](double x) { return x == 0 ? size_t(0) : std::hash<double>{}(x); };
     std::vector<Group> groups;
     for (size_t i = 0; i < members.size();) {
       Group g{members[i].first, i, i, 0};
       for (; i < members.size() && members[i].first == g.surface; ++i)
-        for (double x : members[i].second->source.own) g.hash = g.hash * 1000003u ^ hashOf(x);
+        for (double x : members[i].second->source.own) g.hash = hashCombine(g.hash, x);
       g.to = i;
       groups.push_back(g);
     }
