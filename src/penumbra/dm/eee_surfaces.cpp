@@ -88,9 +88,10 @@ std::vector<std::array<double, 2>> validRanges(const Edge3& light, const Edge3& 
 }
 
 // Where the line x(u) = source + u·direction crosses polygon q, if it does (u of the crossing).
-// Called for every polygon of every cell along every traced line (a tenth of a full build): the
-// even-odd test of containsPoint (geometry/polygon.h) runs on the vertices in place, with the
-// same arithmetic in the same order, instead of on a projected copy allocated per call.
+// Called for every polygon of every cell along every traced line (the EEE tracing is a tenth of
+// a full build): the even-odd test of containsPoint (geometry/polygon.h) runs on the vertices in
+// place, with the same arithmetic in the same order, instead of on a projected copy allocated
+// per call.
 std::optional<double> crossing(const WorldPolygon& q, const Vec3& source, const Vec3& direction) {
   const double along = dot(q.plane.normal, direction);
   if (along == 0) return std::nullopt;

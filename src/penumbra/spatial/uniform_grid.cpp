@@ -204,9 +204,6 @@ size_t UniformGrid::memoryBytes() const {
 }
 
 bool polygonCutsBox(const Polygon3& polygon, const Box3& box) {
-  // Clipped back and forth between two buffers kept per thread: casting the discontinuity
-  // surfaces asks this for every cell a surface's box meets, and a fresh loop per clip made its
-  // allocations a tenth of a full computation's.
   // A vertex strictly inside the box survives every clip below (each keeps the vertices on its
   // inner side, and two more points at least, one from each edge at that vertex): the answer is
   // yes without clipping. The comparisons are the clips' own signs (axis-aligned planes).
@@ -215,6 +212,9 @@ bool polygonCutsBox(const Polygon3& polygon, const Box3& box) {
       if (v.x > box.min.x && v.x < box.max.x && v.y > box.min.y && v.y < box.max.y &&
           v.z > box.min.z && v.z < box.max.z)
         return true;
+  // Clipped back and forth between two buffers kept per thread: casting the discontinuity
+  // surfaces asks this for every cell a surface's box meets, and a fresh loop per clip made its
+  // allocations a tenth of a full computation's.
   thread_local Polygon3 a, b;
   const Polygon3* piece = &polygon;
   Polygon3* out = &a;
