@@ -104,11 +104,16 @@ struct FanPieces {
       planes.push_back({n, dot(n, piece[0])});
     }
   }
+  // Whether piece k's plane passes farther than the margin from every point of the box: then
+  // the box holds no point of the piece (those lie within rounding of the plane).
+  bool planeMisses(size_t k, const Box3& box) const {
+    const auto [low, high] = signedDistanceRange(planes[k], box);
+    return low > margin || high < -margin;
+  }
   // Appends the polygon's cuts with the pieces, in piece order.
   void appendCuts(const WorldPolygon& polygon, std::vector<SurfaceIntersection>& out) const {
     for (size_t k = 0; k < pieces.size(); ++k) {
-      const auto [low, high] = signedDistanceRange(planes[k], polygon.bounds);
-      if (low > margin || high < -margin) continue;
+      if (planeMisses(k, polygon.bounds)) continue;
       for (const ConvexCut& cut : intersectWithConvex(polygon.vertices, pieces[k]))
         out.push_back({polygon.id, cut.p0, cut.p1, cut.boundaryAt0, cut.boundaryAt1});
     }
@@ -125,13 +130,10 @@ void castSurface(DiscontinuitySurface& surface, const PosedScene& scene, const U
   std::vector<PolygonId> candidates;
   for (size_t k = 0; k < pieces.size(); ++k)
     grid.forEachCellOverlappingBox(boundingBox(pieces[k]), [&](int cell) {
-      // Most cells of a piece's box lie off its plane. A cell the plane misses by more than the
-      // margin holds no point of the piece (the clip's points lie within rounding of the plane,
-      // far below the margin): the same answer as the clip, which is skipped.
+      // Most cells of a piece's box lie off its plane: those the plane misses are skipped before
+      // the clip, which would answer no there (its points lie within rounding of the plane).
       const Box3 box = grid.cellBounds(cell);
-      const auto [low, high] = signedDistanceRange(fan.planes[k], box);
-      if (low > fan.margin || high < -fan.margin) return;
-      if (!polygonCutsBox(pieces[k], box)) return;
+      if (fan.planeMisses(k, box) || !polygonCutsBox(pieces[k], box)) return;
       surface.cells.push_back(cell);
       const auto& listed = grid.polygonsInCell(cell);
       candidates.insert(candidates.end(), listed.begin(), listed.end());
