@@ -15,7 +15,8 @@
 namespace penumbra {
 namespace {
 
-double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
+// The test's own distance (not geometry/segment_distance.h, which SegmentProximity uses).
+double referenceDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double len2 = dot(ab, ab);
   const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
@@ -41,7 +42,7 @@ TEST(SegmentProximity, NearAndMayBeNearAgreeWithBruteForce) {
     for (int q = 0; q < 20; ++q) {
       const Vec3 p = point();
       bool near = false;
-      for (const auto& [a, b] : segments) near = near || distanceToSegment(p, a, b) <= bound;
+      for (const auto& [a, b] : segments) near = near || referenceDistance(p, a, b) <= bound;
       EXPECT_EQ(proximity.near(p, bound), near);
     }
     for (int q = 0; q < 20; ++q) {
@@ -64,7 +65,7 @@ TEST(SegmentProximity, NearAndMayBeNearAgreeWithBruteForce) {
       bool someNear = false;
       for (const Vec3& p : probes)
         for (const auto& [a, b] : segments)
-          someNear = someNear || distanceToSegment(p, a, b) <= bound;
+          someNear = someNear || referenceDistance(p, a, b) <= bound;
       const bool mayBe = proximity.mayBeNear(box, bound);
       if (someNear) {
         EXPECT_TRUE(mayBe) << "trial " << trial;

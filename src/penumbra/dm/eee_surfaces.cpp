@@ -14,6 +14,7 @@
 #include "penumbra/base/sort_unique.h"
 #include "penumbra/dm/parameter_ranges.h"
 #include "penumbra/geometry/predicates.h"
+#include "penumbra/geometry/segment_distance.h"
 
 namespace penumbra {
 
@@ -405,13 +406,6 @@ class Tracer {
     const std::vector<VertexId>& vb = adjacency_.polygonVertices(b.blocker);
     return std::none_of(va.begin(), va.end(),
                         [&](VertexId v) { return std::find(vb.begin(), vb.end(), v) != vb.end(); });
-  }
-
-  static double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double len2 = dot(ab, ab);
-    const double t = len2 > 0 ? std::clamp(dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return distance(x, a + ab * t);
   }
 
   // Pieces come in the order of t. One much shorter than the tolerance (where a change of

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "penumbra/geometry/box.h"
+#include "penumbra/geometry/segment_distance.h"
 #include "penumbra/geometry/vec3.h"
 
 namespace penumbra {
@@ -77,10 +78,7 @@ class SegmentProximity {
     for (size_t i = size_t(it - lows_.begin()); i < segments_.size(); ++i) {
       if (lows_[i] > x + distanceBound) break;
       const auto& [a, b] = segments_[i];
-      const Vec3 ab = b - a;
-      const double len2 = dot(ab, ab);
-      const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-      if (distance(p, a + ab * t) <= distanceBound && !visit(original_[i])) return;
+      if (distanceToSegment(p, a, b) <= distanceBound && !visit(original_[i])) return;
     }
   }
 
