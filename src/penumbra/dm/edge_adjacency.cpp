@@ -91,9 +91,15 @@ EdgeAdjacency::EdgeAdjacency(const PosedScene& scene) : scene_(scene) {
                         dot(interiorSide(p, polygonVertices_[p.id], e),
                             interiorSide(q, polygonVertices_[q.id], e)) > 0;
   }
+  witnesses_.resize(edges_.size());
+  for (size_t k = 0; k < edges_.size(); ++k) {
+    const SceneEdge& e = edges_[k];
+    if (e.polygons.size() == 2 && e.canBeSilhouette)
+      witnesses_[k] = {sideWitness(e.polygons[0], e), sideWitness(e.polygons[1], e)};
+  }
 }
 
-Sign EdgeAdjacency::sideOf(PolygonId p, const SceneEdge& e, const Vec3& x) const {
+EdgeAdjacency::SideWitness EdgeAdjacency::sideWitness(PolygonId p, const SceneEdge& e) const {
   const Vec3& a = vertices_[e.a].position;
   const Vec3& b = vertices_[e.b].position;
   const WorldPolygon& polygon = scene_.polygons[p];
@@ -106,23 +112,29 @@ Sign EdgeAdjacency::sideOf(PolygonId p, const SceneEdge& e, const Vec3& x) const
       farthest = d;
       w = &v;
     }
-  if (!w) return Sign::kZero;
-  const Sign side = orientation3d(a, b, x, *w);
+  if (!w) return {};
   // A non-convex polygon has vertices on both sides of an edge's line (a reflex corner): one that
   // lies across the line from the polygon's interior beside the edge tells the opposite side.
   // Measured (dm_geometry fuzzer): a pentagon's far vertex across the edge it shared with a ramp
   // piercing the floor made the edge no silhouette, and the ramp's shadow was lost.
   const double across = dot(interiorSide(polygon, polygonVertices_[p], e), *w - a);
-  if (across < 0) return Sign(-int(side));
-  return side;
+  return {*w, true, across < 0};
+}
+
+Sign EdgeAdjacency::sideOf(const SideWitness& witness, const SceneEdge& e,
+                           const std::vector<SceneVertex>& vertices, const Vec3& x) {
+  if (!witness.exists) return Sign::kZero;
+  const Sign side =
+      orientation3d(vertices[e.a].position, vertices[e.b].position, x, witness.vertex);
+  return witness.across ? Sign(-int(side)) : side;
 }
 
 bool EdgeAdjacency::isSilhouetteFrom(EdgeId id, const Vec3& x) const {
   const SceneEdge& e = edges_[id];
   if (!e.canBeSilhouette) return false;
   if (e.polygons.size() != 2) return true;
-  const Sign s1 = sideOf(e.polygons[0], e, x);
-  const Sign s2 = sideOf(e.polygons[1], e, x);
+  const Sign s1 = sideOf(witnesses_[size_t(id)][0], e, vertices_, x);
+  const Sign s2 = sideOf(witnesses_[size_t(id)][1], e, vertices_, x);
   // Opposite strict sides: the plane cuts through the dihedral, x sees one face from each side of
   // the edge, so nothing appears or disappears there.
   return !(s1 != Sign::kZero && s2 != Sign::kZero && s1 != s2);

@@ -5,6 +5,7 @@
 // never does, so a triangulated input yields the same events as its polygons (Drettakis & Fiume
 // 1994 §4; Loscos & Drettakis 1997 §3).
 
+#include <array>
 #include <vector>
 
 #include "penumbra/geometry/predicates.h"
@@ -61,14 +62,28 @@ class EdgeAdjacency {
   bool canVertexBeSilhouette(VertexId v) const;
 
  private:
-  // The side of the plane through edge e and point x on which polygon p lies beside e (exact
-  // orientation of a vertex of p; kZero when x lies in p's plane or p is degenerate).
-  Sign sideOf(PolygonId p, const SceneEdge& e, const Vec3& x) const;
+  // What tells the side of the plane through an edge and a point x on which one of its polygons
+  // lies beside it: the polygon's vertex farthest from the edge's line, and whether that vertex
+  // lies across the line from the polygon's interior beside the edge (a reflex corner: the
+  // opposite side). Neither depends on x: found once per edge and polygon, not at every test.
+  struct SideWitness {
+    Vec3 vertex;
+    bool exists = false;  // false: the polygon is degenerate along the edge (side kZero)
+    bool across = false;
+  };
+  SideWitness sideWitness(PolygonId p, const SceneEdge& e) const;
+  // The side of the plane through edge e and point x on which the polygon of `witness` lies
+  // beside e (exact orientation of its farthest vertex; kZero when x lies in its plane or it is
+  // degenerate).
+  static Sign sideOf(const SideWitness& witness, const SceneEdge& e,
+                     const std::vector<SceneVertex>& vertices, const Vec3& x);
 
   const PosedScene& scene_;
   std::vector<SceneVertex> vertices_;
   std::vector<SceneEdge> edges_;
   std::vector<std::vector<VertexId>> polygonVertices_;
+  // Per edge joining exactly two polygons, their witnesses in the order of its polygons.
+  std::vector<std::array<SideWitness, 2>> witnesses_;
 };
 
 // What an update may take over from the frame before: per vertex, edge and polygon of `now`,
