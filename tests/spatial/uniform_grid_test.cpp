@@ -256,6 +256,23 @@ std::vector<Box3> queryBoxes(const PosedScene& scene, const UniformGrid& grid, s
 void expectListsPolygonInBoxAgreesWithBoxQuery(const PosedScene& scene, const UniformGrid& grid,
                                                std::uint64_t seed) {
   int failures = 0, listed = 0, notListed = 0;
+  // A few polygons asked together (as an update asks for a moved object's): runs of one to five
+  // consecutive ids, in a shuffled order, the empty set among them.
+  std::mt19937_64 rng(seed);
+  std::vector<std::vector<PolygonId>> groups{{}};
+  for (PolygonId first = 0; size_t(first) < scene.polygons.size();) {
+    const PolygonId end =
+        std::min(PolygonId(scene.polygons.size()),
+                 first + PolygonId(std::uniform_int_distribution<int>(1, 5)(rng)));
+    std::vector<PolygonId> group;
+    for (PolygonId id = first; id < end; ++id) group.push_back(id);
+    std::shuffle(group.begin(), group.end(), rng);
+    groups.push_back(std::move(group));
+    first = end;
+  }
+  std::vector<UniformGrid::ListedPolygons> asked;
+  for (const std::vector<PolygonId>& group : groups) asked.emplace_back(grid, scene, group);
+  int groupsListedNone = 0, groupsListed = 0;
   for (const Box3& box : queryBoxes(scene, grid, seed)) {
     const std::vector<PolygonId> found = grid.polygonsInBox(box);
     for (const WorldPolygon& p : scene.polygons) {
@@ -265,11 +282,23 @@ void expectListsPolygonInBoxAgreesWithBoxQuery(const PosedScene& scene, const Un
         ADD_FAILURE() << "polygon " << p.id << " box " << box.min << " " << box.max << " expected "
                       << expected;
     }
+    for (size_t g = 0; g < groups.size(); ++g) {
+      std::vector<PolygonId> expected, got;
+      for (PolygonId id : groups[g])
+        if (std::binary_search(found.begin(), found.end(), id)) expected.push_back(id);
+      asked[g].forEachListedInBox(box, [&](PolygonId id) { got.push_back(id); });
+      (expected.empty() ? groupsListedNone : groupsListed) += 1;
+      if (got != expected && ++failures <= 10)
+        ADD_FAILURE() << "group " << g << " box " << box.min << " " << box.max << ": " << got.size()
+                      << " listed, expected " << expected.size();
+    }
   }
   EXPECT_EQ(failures, 0);
   // Both answers are common.
   EXPECT_GT(listed, 1000);
   EXPECT_GT(notListed, 1000);
+  EXPECT_GT(groupsListed, 100);
+  EXPECT_GT(groupsListedNone, 100);
 }
 
 TEST(UniformGrid, ListsPolygonInBoxAgreesWithBoxQuery) {

@@ -205,6 +205,12 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
     PolygonId light, SurfaceId firstId, NonEmitterEvMemo* memo, const NonEmitterEvReuse* reuse) {
   std::vector<DiscontinuitySurface> surfaces;
+  // The moved polygons the grid lists in a region's cells, where a memo is read (one test for a
+  // region far from them).
+  const std::optional<UniformGrid::ListedPolygons> listedMoved =
+      reuse ? std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
+                                                         reuse->movedPolygons)
+            : std::nullopt;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
@@ -267,12 +273,12 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
       // and give what they gave (sharing no edge with a moved one, they examine the same edges
       // first); a moved polygon listed in the region's cells now is examined again.
       Entries moved;
-      for (PolygonId id : reuse->movedPolygons)
-        if (id != light && grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) {
-          moved.push_back({id, {}});
-          examine(vi, id, moved.back().second);
-          if (moved.back().second.empty()) moved.pop_back();
-        }
+      listedMoved->forEachListedInBox(region, [&](PolygonId id) {
+        if (id == light) return;
+        moved.push_back({id, {}});
+        examine(vi, id, moved.back().second);
+        if (moved.back().second.empty()) moved.pop_back();
+      });
       entries = mergedWithMoved(std::move(reuse->before.byItem[vi]), std::move(moved),
                                 reuse->movedPolygons);
       if (memo) ++memo->kept;
@@ -296,6 +302,12 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
     PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo, const OccluderPlaneReuse* reuse) {
   const double reach = 2 * scene.extent.diagonalLength();
   std::vector<DiscontinuitySurface> surfaces;
+  // The moved polygons the grid lists in a region's cells, where a memo is read (one test for a
+  // region far from them).
+  const std::optional<UniformGrid::ListedPolygons> listedMoved =
+      reuse ? std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
+                                                         reuse->movedPolygons)
+            : std::nullopt;
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
@@ -410,8 +422,7 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
       // same cells and give what they gave (sharing no edge with a moved one, they examine the
       // same edges first); a moved polygon listed in the region's cells now is examined again.
       PolygonEntries moved;
-      for (PolygonId id : reuse->movedPolygons)
-        if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, region)) examined(id, moved);
+      listedMoved->forEachListedInBox(region, [&](PolygonId id) { examined(id, moved); });
       entries = mergedWithMoved(std::move(reuse->before.byItem[qi]), std::move(moved),
                                 reuse->movedPolygons);
       if (memo) ++memo->kept;
@@ -530,6 +541,12 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   }
   sortUnique(unique);
   std::vector<DiscontinuitySurface> surfaces;
+  // The moved polygons the grid lists in a region's cells, where a memo is read (one test for a
+  // region far from them).
+  const std::optional<UniformGrid::ListedPolygons> listedMoved =
+      reuse ? std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
+                                                         reuse->movedPolygons)
+            : std::nullopt;
   // The pair that last examined each edge (a stamp, not a flag cleared per pair: clearing a
   // flag per edge of the scene for each of thousands of pairs was quadratic).
   std::vector<int> seen(adjacency.edges().size(), -1);
@@ -581,9 +598,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     // examined again; where there are none, the pair's plane and region are not computed.
     std::vector<PolygonId> movedInRegion;
     if (before) {
-      for (PolygonId id : reuse->movedPolygons)
-        if (grid.listsPolygonInBox(id, scene.polygons[id].bounds, before->region))
-          movedInRegion.push_back(id);
+      listedMoved->forEachListedInBox(before->region,
+                                      [&](PolygonId id) { movedInRegion.push_back(id); });
       if (movedInRegion.empty()) {
         PolygonEntries none;
         takeOverMergedWith(none);

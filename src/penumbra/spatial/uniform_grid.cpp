@@ -183,6 +183,33 @@ bool UniformGrid::listsPolygonInBox(PolygonId p, const Box3& polygonBounds, cons
   return false;
 }
 
+UniformGrid::ListedPolygons::ListedPolygons(const UniformGrid& grid, const PosedScene& scene,
+                                            const std::vector<PolygonId>& polygons)
+    : grid_(grid), polygons_(polygons) {
+  bounds_.reserve(polygons.size());
+  for (PolygonId id : polygons) bounds_.push_back(scene.polygons[size_t(id)].bounds);
+  for (const Box3& b : bounds_) {
+    // listsPolygonInBox answers false for these whatever the box.
+    if (b.isEmpty() || !b.overlaps(grid_.bounds_)) continue;
+    const auto [first, last] = grid_.cellRangeOverlapping(b);
+    for (int axis = 0; axis < 3; ++axis) {
+      first_[axis] = any_ ? std::min(first_[axis], first[axis]) : first[axis];
+      last_[axis] = any_ ? std::max(last_[axis], last[axis]) : last[axis];
+    }
+    any_ = true;
+  }
+}
+
+bool UniformGrid::ListedPolygons::mayListIn(const Box3& box) const {
+  if (!any_ || box.isEmpty() || !box.overlaps(grid_.bounds_)) return false;
+  // listsPolygonInBox looks in the cells of both ranges: none where the box's range misses the
+  // block holding every polygon's range.
+  const auto [first, last] = grid_.cellRangeOverlapping(box);
+  for (int axis = 0; axis < 3; ++axis)
+    if (std::max(first[axis], first_[axis]) > std::min(last[axis], last_[axis])) return false;
+  return true;
+}
+
 std::vector<PolygonId> UniformGrid::polygonsInBox(const Box3& box) const {
   return distinctPolygons(cells_, cellsOverlappingBox(box));
 }

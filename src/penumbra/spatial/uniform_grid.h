@@ -63,6 +63,31 @@ class UniformGrid {
   // Is polygon p (whose bounds are `polygonBounds`: it is listed only in cells overlapping them)
   // listed in some cell overlapping `box`, as polygonsInBox(box) would find it?
   bool listsPolygonInBox(PolygonId p, const Box3& polygonBounds, const Box3& box) const;
+  // The same question for a few polygons (a moved object's) asked of many boxes: the polygons of
+  // `polygons` listed in some cell overlapping `box`, in their order, each as listsPolygonInBox
+  // answers; a box whose cells lie outside the block of cells all of them overlap is answered
+  // with one test. Most boxes a large room's update asks about lie far from what moved.
+  class ListedPolygons {
+   public:
+    ListedPolygons(const UniformGrid& grid, const PosedScene& scene,
+                   const std::vector<PolygonId>& polygons);
+    template <typename Visit>
+    void forEachListedInBox(const Box3& box, Visit&& visit) const {
+      if (!mayListIn(box)) return;
+      for (size_t k = 0; k < polygons_.size(); ++k)
+        if (grid_.listsPolygonInBox(polygons_[k], bounds_[k], box)) visit(polygons_[k]);
+    }
+
+   private:
+    // False only where listsPolygonInBox is false for every polygon.
+    bool mayListIn(const Box3& box) const;
+
+    const UniformGrid& grid_;
+    const std::vector<PolygonId>& polygons_;
+    std::vector<Box3> bounds_;             // the polygons' bounds, in their order
+    bool any_ = false;                     // a polygon whose bounds overlap the grid
+    std::array<int, 3> first_{}, last_{};  // the block of cells overlapping such polygons' bounds
+  };
   // Cells the closed segment ab passes through, in order from a (3D DDA, Amanatides & Woo 1987);
   // the parts of the segment outside the grid are ignored.
   std::vector<int> cellsAlongSegment(const Vec3& a, const Vec3& b) const;
