@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "penumbra/geometry/edge_runs.h"
+#include "penumbra/geometry/segment_distance.h"
 #include "penumbra/lighting/form_factor.h"
 
 namespace penumbra {
@@ -25,12 +26,6 @@ struct LineHit {
   int lightEdge = 0;
   FeatureRef edge;
 };
-
-double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double t = std::clamp(dot(x - a, ab) / dot(ab, ab), 0.0, 1.0);
-  return distance(x, a + ab * t);
-}
 
 // Does the ray from p through x (x on the light plane) pass through segment ab within `tolerance`
 // (measured on the light plane), between p and x?
