@@ -487,12 +487,25 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     previousByFan.add(fanHash(previousSurfaces[i]));
   previousByFan.seal();
   std::vector<char> movedCells;
+  // The lowest and highest of them: a surface's cells (sorted) are looked at only in that range,
+  // found by bisection (a large room's hundreds of thousands of surfaces lie mostly elsewhere).
+  int lowestMovedCell = std::numeric_limits<int>::max(), highestMovedCell = -1;
   if (change) {
     movedCells.assign(grid_->resolution().cellCount(), 0);
     for (const ObjectMove& move : change->moves)
       for (const Box3& box : {move.boundsBefore, move.boundsAfter})
-        grid_->forEachCellOverlappingBox(box, [&](int cell) { movedCells[cell] = 1; });
+        grid_->forEachCellOverlappingBox(box, [&](int cell) {
+          movedCells[cell] = 1;
+          lowestMovedCell = std::min(lowestMovedCell, cell);
+          highestMovedCell = std::max(highestMovedCell, cell);
+        });
   }
+  const auto crossesMovedCells = [&](const std::vector<int>& sortedCells) {
+    for (auto it = std::lower_bound(sortedCells.begin(), sortedCells.end(), lowestMovedCell);
+         it != sortedCells.end() && *it <= highestMovedCell; ++it)
+      if (movedCells[*it] != 0) return true;
+    return false;
+  };
   // The polygons of the moved objects: a surface with the same fan whose cells they touch has
   // only its cuts with them computed again (recastMoved: the paper's re-intersection with the
   // moving object).
@@ -515,8 +528,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       keptCast.resize(index + 1, 0);
     }
     previousIndex[index] = int(then);
-    if (std::any_of(surface.cells.begin(), surface.cells.end(),
-                    [&](int cell) { return movedCells[cell] != 0; })) {
+    if (crossesMovedCells(surface.cells)) {
       recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
       ++stats_.recastMovedCasts;
     } else {
@@ -770,10 +782,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
               return b.meetsSegment(line.first, line.second);
             });
           };
-          const std::vector<int>& cells = previousEee[i].cells;
           return before.key == trace.key &&
-                 (std::none_of(cells.begin(), cells.end(),
-                               [&](int cell) { return movedCells[cell] != 0; }) ||
+                 (!crossesMovedCells(previousEee[i].cells) ||
                   std::none_of(before.lines.begin(), before.lines.end(), meetsMoved));
         });
         if (then) {
