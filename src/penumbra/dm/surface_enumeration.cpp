@@ -151,6 +151,17 @@ void takeOverRun(std::vector<DiscontinuitySurface>& surfacesBefore, SurfaceId fi
   }
 }
 
+// The moved polygons the grid lists in a region's cells, for an enumeration that reads a memo
+// (one test answers for a region far from them); nothing where it reads none.
+template <typename Reuse>
+std::optional<UniformGrid::ListedPolygons> movedPolygonsListed(const UniformGrid& grid,
+                                                               const PosedScene& scene,
+                                                               const Reuse* reuse) {
+  if (!reuse) return std::nullopt;
+  return std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
+                                                    reuse->movedPolygons);
+}
+
 }  // namespace
 
 void enumerateEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
@@ -205,12 +216,8 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
     const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
     PolygonId light, SurfaceId firstId, NonEmitterEvMemo* memo, const NonEmitterEvReuse* reuse) {
   std::vector<DiscontinuitySurface> surfaces;
-  // The moved polygons the grid lists in a region's cells, where a memo is read (one test for a
-  // region far from them).
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
-      reuse ? std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
-                                                         reuse->movedPolygons)
-            : std::nullopt;
+      movedPolygonsListed(grid, scene, reuse);
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
@@ -302,12 +309,8 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
     PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo, const OccluderPlaneReuse* reuse) {
   const double reach = 2 * scene.extent.diagonalLength();
   std::vector<DiscontinuitySurface> surfaces;
-  // The moved polygons the grid lists in a region's cells, where a memo is read (one test for a
-  // region far from them).
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
-      reuse ? std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
-                                                         reuse->movedPolygons)
-            : std::nullopt;
+      movedPolygonsListed(grid, scene, reuse);
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
   const Polygon3& lv = lightPolygon.vertices;
@@ -541,12 +544,8 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
   }
   sortUnique(unique);
   std::vector<DiscontinuitySurface> surfaces;
-  // The moved polygons the grid lists in a region's cells, where a memo is read (one test for a
-  // region far from them).
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
-      reuse ? std::optional<UniformGrid::ListedPolygons>(std::in_place, grid, scene,
-                                                         reuse->movedPolygons)
-            : std::nullopt;
+      movedPolygonsListed(grid, scene, reuse);
   // The pair that last examined each edge (a stamp, not a flag cleared per pair: clearing a
   // flag per edge of the scene for each of thousands of pairs was quadratic).
   std::vector<int> seen(adjacency.edges().size(), -1);

@@ -83,9 +83,9 @@ class UniformGrid {
     bool mayListIn(const Box3& box) const;
 
     const UniformGrid& grid_;
-    const std::vector<PolygonId>& polygons_;
-    std::vector<Box3> bounds_;             // the polygons' bounds, in their order
-    bool any_ = false;                     // a polygon whose bounds overlap the grid
+    const std::vector<PolygonId>& polygons_;  // the caller's: it outlives this
+    std::vector<Box3> bounds_;                // the polygons' bounds, in their order
+    bool any_ = false;                        // a polygon whose bounds overlap the grid
     std::array<int, 3> first_{}, last_{};  // the block of cells overlapping such polygons' bounds
   };
   // Cells the closed segment ab passes through, in order from a (3D DDA, Amanatides & Woo 1987);
