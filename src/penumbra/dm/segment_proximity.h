@@ -57,16 +57,16 @@ class SegmentProximity {
   // proves that no point of the box lies within distanceBound of any segment (the gap along one
   // axis is larger); a caller whose points may lie a rounding outside the box pads the bound.
   bool mayBeNear(const Box3& box, double distanceBound) const {
-    const double from = coordinate(box.min) - distanceBound,
-                 to = coordinate(box.max) + distanceBound;
-    auto it = std::lower_bound(lows_.begin(), lows_.end(), from - longest_);
-    for (size_t i = size_t(it - lows_.begin()); i < segments_.size() && lows_[i] <= to; ++i) {
-      const auto& [a, b] = segments_[i];
-      const Box3 reach{componentMin(a, b) - Vec3{1, 1, 1} * distanceBound,
-                       componentMax(a, b) + Vec3{1, 1, 1} * distanceBound};
-      if (reach.overlaps(box)) return true;
-    }
-    return false;
+    bool found = false;
+    forEachSpanning(coordinate(box.min) - distanceBound, coordinate(box.max) + distanceBound,
+                    [&](size_t i) {
+                      const auto& [a, b] = segments_[i];
+                      const Box3 reach{componentMin(a, b) - Vec3{1, 1, 1} * distanceBound,
+                                       componentMax(a, b) + Vec3{1, 1, 1} * distanceBound};
+                      found = reach.overlaps(box);
+                      return !found;
+                    });
+    return found;
   }
 
   // Calls visit(index) with the index, in the order given to the constructor, of each segment
@@ -74,15 +74,23 @@ class SegmentProximity {
   template <typename Visit>
   void forEachNear(const Vec3& p, double distanceBound, Visit visit) const {
     const double x = coordinate(p);
-    auto it = std::lower_bound(lows_.begin(), lows_.end(), x - distanceBound - longest_);
-    for (size_t i = size_t(it - lows_.begin()); i < segments_.size(); ++i) {
-      if (lows_[i] > x + distanceBound) break;
+    forEachSpanning(x - distanceBound, x + distanceBound, [&](size_t i) {
       const auto& [a, b] = segments_[i];
-      if (distanceToSegment(p, a, b) <= distanceBound && !visit(original_[i])) return;
-    }
+      return distanceToSegment(p, a, b) > distanceBound || visit(original_[i]);
+    });
   }
 
  private:
+  // Calls visit(i) for each segment (by sorted position) whose span along the axis may reach
+  // [from, to] (its low end at most `to`, and at least `from` less the longest span), in order,
+  // while visit returns true.
+  template <typename Visit>
+  void forEachSpanning(double from, double to, Visit visit) const {
+    auto it = std::lower_bound(lows_.begin(), lows_.end(), from - longest_);
+    for (size_t i = size_t(it - lows_.begin()); i < segments_.size() && lows_[i] <= to; ++i)
+      if (!visit(i)) return;
+  }
+
   double coordinate(const Vec3& p) const { return axis_ == 0 ? p.x : axis_ == 1 ? p.y : p.z; }
   double low(const std::pair<Vec3, Vec3>& s) const {
     return std::min(coordinate(s.first), coordinate(s.second));
