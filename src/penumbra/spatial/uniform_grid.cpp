@@ -80,8 +80,7 @@ std::array<int, 3> UniformGrid::clampedCoordinates(const Vec3& p) const {
   return c;
 }
 
-std::pair<std::array<int, 3>, std::array<int, 3>> UniformGrid::cellRangeOverlapping(
-    const Box3& box) const {
+UniformGrid::CellRange UniformGrid::cellRangeOverlapping(const Box3& box) const {
   // Expand by one cell where the box touches a cell boundary: closed-box semantics.
   std::array<int, 3> first = clampedCoordinates(box.min), last = clampedCoordinates(box.max);
   const int n[3] = {resolution_.nx, resolution_.ny, resolution_.nz};
@@ -166,12 +165,22 @@ bool UniformGrid::listsPolygonInBox(PolygonId p, const Box3& polygonBounds, cons
   if (box.isEmpty() || polygonBounds.isEmpty() || !box.overlaps(bounds_) ||
       !polygonBounds.overlaps(bounds_))
     return false;
-  // The cells overlapping both boxes: the overlap of their coordinate ranges.
-  auto [first, last] = cellRangeOverlapping(box);
-  const auto [polygonFirst, polygonLast] = cellRangeOverlapping(polygonBounds);
+  return listsPolygonInCells(p, cellRangeOverlapping(box), cellRangeOverlapping(polygonBounds));
+}
+
+bool UniformGrid::overlap(const CellRange& a, const CellRange& b) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (std::max(a.first[axis], b.first[axis]) > std::min(a.second[axis], b.second[axis]))
+      return false;
+  return true;
+}
+
+bool UniformGrid::listsPolygonInCells(PolygonId p, const CellRange& a, const CellRange& b) const {
+  // The cells of both: the overlap of the coordinate ranges.
+  std::array<int, 3> first{}, last{};
   for (int axis = 0; axis < 3; ++axis) {
-    first[axis] = std::max(first[axis], polygonFirst[axis]);
-    last[axis] = std::min(last[axis], polygonLast[axis]);
+    first[axis] = std::max(a.first[axis], b.first[axis]);
+    last[axis] = std::min(a.second[axis], b.second[axis]);
     if (first[axis] > last[axis]) return false;
   }
   for (int iz = first[2]; iz <= last[2]; ++iz)
@@ -186,28 +195,23 @@ bool UniformGrid::listsPolygonInBox(PolygonId p, const Box3& polygonBounds, cons
 UniformGrid::ListedPolygons::ListedPolygons(const UniformGrid& grid, const PosedScene& scene,
                                             const std::vector<PolygonId>& polygons)
     : grid_(grid), polygons_(polygons) {
-  bounds_.reserve(polygons.size());
-  for (PolygonId id : polygons) bounds_.push_back(scene.polygons[size_t(id)].bounds);
-  for (const Box3& b : bounds_) {
-    // listsPolygonInBox answers false for these whatever the box.
-    if (b.isEmpty() || !b.overlaps(grid_.bounds_)) continue;
-    const auto [first, last] = grid_.cellRangeOverlapping(b);
+  ranges_.reserve(polygons.size());
+  for (PolygonId id : polygons) {
+    const Box3& b = scene.polygons[size_t(id)].bounds;
+    if (b.isEmpty() || !b.overlaps(grid_.bounds_)) {
+      ranges_.emplace_back();
+      continue;
+    }
+    const CellRange range = grid_.cellRangeOverlapping(b);
+    ranges_.emplace_back(range);
     for (int axis = 0; axis < 3; ++axis) {
-      first_[axis] = any_ ? std::min(first_[axis], first[axis]) : first[axis];
-      last_[axis] = any_ ? std::max(last_[axis], last[axis]) : last[axis];
+      block_.first[axis] =
+          any_ ? std::min(block_.first[axis], range.first[axis]) : range.first[axis];
+      block_.second[axis] =
+          any_ ? std::max(block_.second[axis], range.second[axis]) : range.second[axis];
     }
     any_ = true;
   }
-}
-
-bool UniformGrid::ListedPolygons::mayListIn(const Box3& box) const {
-  if (!any_ || box.isEmpty() || !box.overlaps(grid_.bounds_)) return false;
-  // listsPolygonInBox looks in the cells of both ranges: none where the box's range misses the
-  // block holding every polygon's range.
-  const auto [first, last] = grid_.cellRangeOverlapping(box);
-  for (int axis = 0; axis < 3; ++axis)
-    if (std::max(first[axis], first_[axis]) > std::min(last[axis], last_[axis])) return false;
-  return true;
 }
 
 std::vector<PolygonId> UniformGrid::polygonsInBox(const Box3& box) const {

@@ -26,6 +26,8 @@ struct GridResolution {
 
 class UniformGrid {
  public:
+  // An inclusive range of cell coordinates: its first and last cell along each axis.
+  using CellRange = std::pair<std::array<int, 3>, std::array<int, 3>>;
   // About kCellsPerPolygon cells per polygon, shaped to the box so that cells are near-cubes.
   static constexpr double kCellsPerPolygon = 1.0;
   static constexpr int kMaxCellsPerAxis = 256;
@@ -73,20 +75,23 @@ class UniformGrid {
                    const std::vector<PolygonId>& polygons);
     template <typename Visit>
     void forEachListedInBox(const Box3& box, Visit&& visit) const {
-      if (!mayListIn(box)) return;
+      if (!any_ || box.isEmpty() || !box.overlaps(grid_.bounds_)) return;
+      // One range for the box; none of the polygons where it misses the block holding theirs.
+      const CellRange range = grid_.cellRangeOverlapping(box);
+      if (!overlap(range, block_)) return;
       for (size_t k = 0; k < polygons_.size(); ++k)
-        if (grid_.listsPolygonInBox(polygons_[k], bounds_[k], box)) visit(polygons_[k]);
+        if (ranges_[k] && grid_.listsPolygonInCells(polygons_[k], range, *ranges_[k]))
+          visit(polygons_[k]);
     }
 
    private:
-    // False only where listsPolygonInBox is false for every polygon.
-    bool mayListIn(const Box3& box) const;
-
     const UniformGrid& grid_;
     const std::vector<PolygonId>& polygons_;  // the caller's: it outlives this
-    std::vector<Box3> bounds_;                // the polygons' bounds, in their order
-    bool any_ = false;                        // a polygon whose bounds overlap the grid
-    std::array<int, 3> first_{}, last_{};  // the block of cells overlapping such polygons' bounds
+    // Each polygon's cells, in their order; none where listsPolygonInBox answers false whatever
+    // the box (bounds empty or off the grid).
+    std::vector<std::optional<CellRange>> ranges_;
+    bool any_ = false;  // some polygon has cells
+    CellRange block_;   // the block of cells holding all of them
   };
   // Cells the closed segment ab passes through, in order from a (3D DDA, Amanatides & Woo 1987);
   // the parts of the segment outside the grid are ignored.
@@ -103,7 +108,11 @@ class UniformGrid {
  private:
   std::array<int, 3> clampedCoordinates(const Vec3& p) const;
   // Inclusive cell coordinate range of the cells overlapping a box that overlaps the grid.
-  std::pair<std::array<int, 3>, std::array<int, 3>> cellRangeOverlapping(const Box3& box) const;
+  CellRange cellRangeOverlapping(const Box3& box) const;
+  // Do two cell ranges share a cell?
+  static bool overlap(const CellRange& a, const CellRange& b);
+  // Is polygon p listed in a cell of both ranges (listsPolygonInBox, the ranges of its boxes)?
+  bool listsPolygonInCells(PolygonId p, const CellRange& a, const CellRange& b) const;
 
   GridResolution resolution_;
   Box3 bounds_;
