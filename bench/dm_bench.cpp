@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
@@ -168,7 +169,7 @@ void runScene(const std::string& name, const std::string& path, bool monteCarlo)
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   bool quick = false, large = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
@@ -203,4 +204,8 @@ int main(int argc, char** argv) {
               "memory KiB");
   for (const auto& [name, path] : scenes) runScene(name, path, name == "desk-475" || quick);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("dm_bench", argc, argv, benchMain);
 }

@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/geometry/predicates.h"
 #include "penumbra/lighting/exact_reference.h"
@@ -448,7 +449,7 @@ Tally compare(const std::string& name, const Scene& scene, int points, std::uint
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   int points = 2000;
   bool propagate = DmOptions{}.propagateBackprojections;
   bool walked = false, verifiedOnly = false;
@@ -553,4 +554,8 @@ int main(int argc, char** argv) {
                   total.cornerDiffer, total.cornerProbes);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("dm_exactness", argc, argv, benchMain);
 }

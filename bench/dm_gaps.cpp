@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/dm/fan_visibility.h"
 #include "penumbra/geometry/predicates.h"
@@ -123,7 +124,7 @@ std::string differenceKey(const std::vector<Label>& onlySample,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: dm_gaps SCENE.json [--faces N]\n");
     return 1;
@@ -447,4 +448,8 @@ int main(int argc, char** argv) {
   std::printf("false alarms by labels that differ:\n");
   for (const auto& [key, count] : aliasByKind) std::printf("  %5d  %s\n", count, key.c_str());
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("dm_gaps", argc, argv, benchMain);
 }

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/dm/discontinuity_mesh_engine.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/scene/receiver_sampling.h"
@@ -88,7 +89,7 @@ void run(const std::string& name, const std::string& path, int points) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   std::vector<int> sides = {100, 200, 400, 1000};
   int points = 2000;
   for (int i = 1; i + 1 < argc; ++i) {
@@ -115,4 +116,9 @@ int main(int argc, char** argv) {
       std::ofstream(path) << tessellatedSolidSceneJson({.sides = n, .cylinder = cylinder});
       run(name, path.string(), points);
     }
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("dm_many_vertices", argc, argv, benchMain);
 }

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/dm/irradiance_mesh.h"
 #include "penumbra/geometry/quaternion.h"
 #include "penumbra/scene/scene_loader.h"
@@ -98,7 +99,7 @@ bool interiorsOverlap(const Box3& a, const Box3& b) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   int moves = 1000, checkFrom = 0;
   bool writeDiffering = false;
   std::uint64_t seed = 1;
@@ -295,4 +296,8 @@ int main(int argc, char** argv) {
       rebuilt, differences, reused, recomputed, updateSeconds, fullSeconds,
       fullSeconds / updateSeconds);
   return differences == 0 ? 0 : 1;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("dm_random_moves", argc, argv, benchMain);
 }

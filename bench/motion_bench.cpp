@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/scene/scene_generator.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/dynamic_scene.h"
@@ -68,7 +69,7 @@ void report(const char* what, const StepTimes& t) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   const int polygons = argc > 1 ? std::atoi(argv[1]) : 100000;
   const int steps = argc > 2 ? std::atoi(argv[2]) : 40;
   SceneGeneratorOptions generator;
@@ -129,4 +130,8 @@ int main(int argc, char** argv) {
   std::printf("medians over %d steps; ratio = rebuild / update of grid + ray caster together\n",
               steps);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("motion_bench", argc, argv, benchMain);
 }

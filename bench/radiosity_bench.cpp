@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "bench_main.h"
 #include "penumbra/geometry/cosine_direction.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/radiosity/radiosity_solver.h"
@@ -173,7 +174,7 @@ void convergence(const std::string& path, const std::vector<double>& tolerances)
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   std::vector<double> tolerances;
   std::vector<std::string> scenes;
   bool furnace = false, convergenceTable = false, elementShares = false, exactVisibility = false;
@@ -217,4 +218,8 @@ int main(int argc, char** argv) {
     for (const std::string& scene : scenes)
       run(scene, tolerance, furnace, elementShares, exactVisibility, exactGatherContrast);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("radiosity_bench", argc, argv, benchMain);
 }

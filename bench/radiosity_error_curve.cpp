@@ -48,6 +48,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "bench_statistics.h"
 #include "degenerate_rooms.h"
 #include "penumbra/base/parallel_for.h"
@@ -359,7 +360,7 @@ std::vector<double> parseList(const std::string& text) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   Options o;
   std::string rooms;  // --degenerate-rooms A:B
   bool insideOut = false, moving = false;
@@ -429,4 +430,9 @@ int main(int argc, char** argv) {
   if (o.scenes.empty())
     o.scenes.push_back(std::string(PENUMBRA_SOURCE_DIR) + "/scenes/cornell-box/cornell-box.json");
   for (const std::string& scene : o.scenes) run(scene, o);
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("radiosity_error_curve", argc, argv, benchMain);
 }

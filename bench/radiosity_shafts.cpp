@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "bench_statistics.h"
 #include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
@@ -118,7 +119,7 @@ class SmoothWalk {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   int moves = 1000, repeat = 1;
   double tolerance = GalerkinOptions{}.tolerance;
   std::string path = PENUMBRA_SOURCE_DIR "/scenes/chair-room/furnished-room.json";
@@ -266,4 +267,8 @@ int main(int argc, char** argv) {
   std::printf("  results: %s\n",
               failures ? "DIFFERENT from all" : "bit-identical to all at every move");
   return failures ? 1 : 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("radiosity_shafts", argc, argv, benchMain);
 }

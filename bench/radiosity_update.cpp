@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "bench_statistics.h"
 #include "penumbra/base/stopwatch.h"
 #include "penumbra/radiosity/galerkin/galerkin_radiosity.h"
@@ -237,7 +238,7 @@ int randomMoves(const std::string& path, int moves, double tolerance, ShaftPolic
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   int repeat = 3;
   Mode mode = Mode::kInterleaved;
   int moves = 0;  // --random-moves N: the random walk instead of the keyframes
@@ -270,4 +271,8 @@ int main(int argc, char** argv) {
     failures += moves > 0 ? randomMoves(scene, moves, tolerance, shafts)
                           : benchScene(scene, repeat, tolerance, mode, shafts);
   return failures ? 1 : 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("radiosity_update", argc, argv, benchMain);
 }

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/lighting/monte_carlo_estimator.h"
 #include "penumbra/scene/receiver_sampling.h"
@@ -34,7 +35,7 @@ double secondsSince(Clock::time_point start) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   int pointCount = 400;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
@@ -125,4 +126,8 @@ int main(int argc, char** argv) {
                 seconds / exactSeconds);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("reference_bench", argc, argv, benchMain);
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.h"
 #include "penumbra/geometry/triangulation.h"
 #include "penumbra/render/gl_context.h"
 #include "penumbra/render/shadow_volume_renderer.h"
@@ -116,7 +117,7 @@ void benchScene(const std::string& name, const Scene& scene) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int benchMain(int argc, char** argv) {
   const std::string source = argc > 1 ? argv[1] : PENUMBRA_SOURCE_DIR;
   const auto context = GlContext::createHeadless();
   std::printf("GL: %s (%s)\n", context->versionString().c_str(), context->rendererString().c_str());
@@ -130,4 +131,8 @@ int main(int argc, char** argv) {
   benchScene("generated-100k-triangles", loadScene(path.string()));
   std::filesystem::remove(path);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  return penumbra::bench::runReportingErrors("volumes_bench", argc, argv, benchMain);
 }
