@@ -17,18 +17,11 @@
 #include <vector>
 
 #include "penumbra/dm/edge_adjacency.h"
+#include "penumbra/dm/feature_ref.h"
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/spatial/uniform_grid.h"
 
 namespace penumbra {
-
-// Edge `corner` → `corner + 1` of a polygon, or its vertex `corner`; resolved in the posed scene of
-// the frame being evaluated, so the label follows a moving object.
-struct FeatureRef {
-  PolygonId polygon = 0;
-  int corner = 0;
-  bool operator==(const FeatureRef&) const = default;
-};
 
 enum class BackprojectionVertexKind {
   kLightVertex,               // light corner `lightFeature`
