@@ -44,6 +44,16 @@ class TakenOnce {
   void reserve(std::size_t items) { hashOf_.reserve(items); }
   // The next item (items are numbered 0, 1, 2, ... in the order added).
   void add(std::size_t hash) { hashOf_.push_back(hash); }
+  // Items 0, 1, ... with these hashes, in place of any added.
+  void assign(std::vector<std::size_t>&& hashes) { hashOf_ = std::move(hashes); }
+  std::size_t hashOf(std::size_t item) const { return hashOf_[item]; }
+  // The hashes' storage, for a later assign (the object is empty after).
+  std::vector<std::size_t> releaseHashes() {
+    slots_.clear();
+    taken_.clear();
+    next_ = 0;
+    return std::move(hashOf_);
+  }
   void seal() {
     std::size_t capacity = 16;
     while (capacity < 2 * hashOf_.size()) capacity *= 2;
@@ -466,6 +476,7 @@ bool DiscontinuityMeshEngine::keepsFaceData(const ReceiverData& now, const MeshF
 
 void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   stats_ = {};
+  statsTallied_ = false;
   stats_.recomputedAll = change == nullptr;
   // The previous frame's receivers, offered for reuse when an update finds their inputs equal.
   std::map<PolygonId, ReceiverData> previous;
@@ -481,11 +492,23 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // Sized as the frame before: growing a list of half a million surfaces by doubling moved each
   // one several times and faulted in fresh pages for every copy (10% of a large room's update).
   surfaces_.reserve(previousSurfaces.size());
+  // Their fans' hashes as the frame before computed them (each surface's, by index), else
+  // computed here; this frame's are recorded as its surfaces are cast or kept.
   TakenOnce previousByFan;
-  previousByFan.reserve(previousSurfaces.size());
-  for (size_t i = 0; i < previousSurfaces.size(); ++i)
-    previousByFan.add(fanHash(previousSurfaces[i]));
+  if (change && fanHashes_.size() == previousSurfaces.size()) {
+    previousByFan.assign(std::move(fanHashes_));
+  } else {
+    previousByFan.reserve(previousSurfaces.size());
+    for (size_t i = 0; i < previousSurfaces.size(); ++i)
+      previousByFan.add(fanHash(previousSurfaces[i]));
+  }
   previousByFan.seal();
+  fanHashes_ = std::move(spareFanHashes_);
+  fanHashes_.clear();
+  const auto recordFanHash = [&](size_t index, std::size_t hash) {
+    if (fanHashes_.size() <= index) fanHashes_.resize(index + 1);
+    fanHashes_[index] = hash;
+  };
   std::vector<char> movedCells;
   // The lowest and highest of them: a surface's cells (sorted) are looked at only in that range,
   // found by bisection (a large room's hundreds of thousands of surfaces lie mostly elsewhere).
@@ -537,9 +560,11 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     }
   };
   const auto castOrKeep = [&](DiscontinuitySurface& surface, size_t index) {
+    const std::size_t hash = fanHash(surface);
+    recordFanHash(index, hash);
     // Taken: no other surface matches it.
-    const std::optional<size_t> then = previousByFan.take(
-        fanHash(surface), [&](size_t i) { return sameFan(previousSurfaces[i], surface); });
+    const std::optional<size_t> then =
+        previousByFan.take(hash, [&](size_t i) { return sameFan(previousSurfaces[i], surface); });
     if (!then) {
       castSurface(surface, *posed_, *grid_);
       return;
@@ -553,6 +578,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   // memo) with its cast.
   std::vector<char> takenWhole;  // by index: hinge polygons and fan are the frame before's
   const auto keepWhole = [&](DiscontinuitySurface& surface, size_t index, size_t then) {
+    recordFanHash(index, previousByFan.hashOf(then));  // the same fan, moved over
     if (takenWhole.size() <= index) takenWhole.resize(index + 1, 0);
     takenWhole[index] = 1;
     keepCast(surface, index, then);
@@ -613,21 +639,17 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     NonEmitterEvMemo& memo = nonEmitter_[light];
     const std::optional<NonEmitterEvReuse> nonEmitterReuse =
         reuseOf(previousNonEmitter, light, &UnchangedTopology::vertices);
-    std::vector<DiscontinuitySurface> surfaces = enumerateNonEmitterEvSurfaces(
-        scene, *adjacency_, *grid_, light, SurfaceId(surfaces_.size()), &memo,
-        nonEmitterReuse ? &*nonEmitterReuse : nullptr);
+    enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light, SurfaceId(surfaces_.size()),
+                                  surfaces_, &memo, nonEmitterReuse ? &*nonEmitterReuse : nullptr);
     stats_.keptNonEmitterVertices += memo.kept;
     stats_.examinedNonEmitterVertices += memo.examined;
-    for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
     OccluderPlaneMemo& planes = occluderPlanes_[light];
     const std::optional<OccluderPlaneReuse> planeReuse =
         reuseOf(previousOccluderPlanes, light, &UnchangedTopology::polygons);
-    surfaces = enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light,
-                                              SurfaceId(surfaces_.size()), &planes,
-                                              planeReuse ? &*planeReuse : nullptr);
+    enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light, SurfaceId(surfaces_.size()),
+                                   surfaces_, &planes, planeReuse ? &*planeReuse : nullptr);
     stats_.keptOccluderPlanes += planes.kept;
     stats_.examinedOccluderPlanes += planes.examined;
-    for (DiscontinuitySurface& s : surfaces) surfaces_.push_back(std::move(s));
   }
   for (const DiscontinuitySurface& s : surfaces_) {
     switch (s.kind) {
@@ -864,11 +886,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                   ParallelCrossingReuse{before->second, sameCutsAs, previousSurfaces, takenFrom})
             : std::nullopt;
     ParallelCrossingMemo& memo = parallelCrossings_[light];
-    for (DiscontinuitySurface& s :
-         parallelEdgeCrossingSurfaces(scene, *adjacency_, surfaces_, light,
-                                      SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
-                                      parallelReuse ? &*parallelReuse : nullptr))
-      afterCasting.push_back(std::move(s));
+    parallelEdgeCrossingSurfaces(scene, *adjacency_, surfaces_, light,
+                                 SurfaceId(surfaces_.size() + afterCasting.size()), afterCasting,
+                                 &memo, parallelReuse ? &*parallelReuse : nullptr);
     markTakenWhole();
     stats_.keptParallelPlanes += memo.keptPlanes;
     stats_.examinedParallelPlanes += memo.examinedPlanes;
@@ -879,9 +899,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs,
                                               &eeeCandidates_, reuseCandidates))
       eeeSurfaces_.push_back(std::move(s));
-    for (DiscontinuitySurface& s : coplanarEdgeSurfaces(
-             scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size() + afterCasting.size())))
-      afterCasting.push_back(std::move(s));
+    coplanarEdgeSurfaces(scene, *adjacency_, pairs, light,
+                         SurfaceId(surfaces_.size() + afterCasting.size()), afterCasting);
     if (!options_.coplanarEdgeCrossings) continue;
     // Offered on the non-emitter enumeration's terms: the same polygons, edges and light.
     const auto before = previousCoplanar.find(light);
@@ -892,13 +911,11 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                   before->second, unchanged->edges, movedIds, previousSurfaces, takenFrom})
             : std::nullopt;
     CoplanarCrossingMemo& memo = coplanarCrossings_[light];
-    for (DiscontinuitySurface& s :
-         coplanarEdgeCrossingSurfaces(scene, *adjacency_, *grid_, pairs, light,
-                                      SurfaceId(surfaces_.size() + afterCasting.size()), &memo,
-                                      coplanarReuse ? &*coplanarReuse : nullptr)) {
-      afterCasting.push_back(std::move(s));
-      ++stats_.surfacesCoplanarEdgeCrossing;
-    }
+    const size_t crossingsBefore = afterCasting.size();
+    coplanarEdgeCrossingSurfaces(scene, *adjacency_, *grid_, pairs, light,
+                                 SurfaceId(surfaces_.size() + afterCasting.size()), afterCasting,
+                                 &memo, coplanarReuse ? &*coplanarReuse : nullptr);
+    stats_.surfacesCoplanarEdgeCrossing += int(afterCasting.size() - crossingsBefore);
     markTakenWhole();
     stats_.keptCoplanarPairs += memo.keptPairs;
     stats_.examinedCoplanarPairs += memo.examinedPairs;
@@ -1135,7 +1152,6 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   const double receiverSeconds = secondsSince(start);
   stats_.secondsBackprojections = backprojectionSeconds - stats_.secondsVerification;
   stats_.secondsMeshing = receiverSeconds - backprojectionSeconds;
-  tallyReceivers();
   // Their storage kept for the next update (see spareSurfaces_); a build keeps none. (The
   // computation's peak is the same either way: both frames' lists exist while it runs.)
   if (change) {
@@ -1147,8 +1163,18 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     spareVisible_ = std::move(previousVisible);
     previousEee.clear();
     spareEee_ = std::move(previousEee);
+    spareFanHashes_ = previousByFan.releaseHashes();
   }
-  stats_.updateCacheBytes = updateCacheBytes();
+  CHECK(fanHashes_.size() == surfaces_.size());
+}
+
+const DmStats& DiscontinuityMeshEngine::stats() const {
+  if (!statsTallied_) {
+    tallyReceivers();
+    stats_.updateCacheBytes = updateCacheBytes();
+    statsTallied_ = true;
+  }
+  return stats_;
 }
 
 size_t DiscontinuityMeshEngine::updateCacheBytes() const {
@@ -1180,6 +1206,7 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
                plane.fans.capacity() * sizeof(size_t);
   }
   bytes += afterCastingStorage_.capacity() * sizeof(DiscontinuitySurface);
+  bytes += (fanHashes_.capacity() + spareFanHashes_.capacity()) * sizeof(std::size_t);
   for (const auto& [light, crossings] : eeeCrossings_)
     bytes += crossings.capacity() * sizeof(EeeCrossing);
   for (const auto& pieces : visible_)
@@ -1195,7 +1222,7 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
   return bytes;
 }
 
-void DiscontinuityMeshEngine::tallyReceivers() {
+void DiscontinuityMeshEngine::tallyReceivers() const {
   for (const auto& [id, data] : receivers_) {
     stats_.meshVertices += data.mesh.vertexCount();
     stats_.meshEdges += data.mesh.edgeCount();

@@ -212,10 +212,14 @@ void enumerateEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& ad
   }
 }
 
-std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    PolygonId light, SurfaceId firstId, NonEmitterEvMemo* memo, const NonEmitterEvReuse* reuse) {
-  std::vector<DiscontinuitySurface> surfaces;
+void enumerateNonEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                   const UniformGrid& grid, PolygonId light,
+                                   SurfaceId appendedFirstId,
+                                   std::vector<DiscontinuitySurface>& surfaces,
+                                   NonEmitterEvMemo* memo, const NonEmitterEvReuse* reuse) {
+  // Appended to the caller's list (no list of their own made and moved over each frame: a
+  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
+  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
       movedPolygonsListed(grid, scene, reuse);
   const WorldPolygon& lightPolygon = scene.polygons[light];
@@ -301,14 +305,17 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
     appendNumbered(entries, firstId, surfaces);
     if (memo) memo->byItem[vi] = std::move(entries);
   }
-  return surfaces;
 }
 
-std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo, const OccluderPlaneReuse* reuse) {
+void enumerateOccluderPlaneSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                    const UniformGrid& grid, PolygonId light,
+                                    SurfaceId appendedFirstId,
+                                    std::vector<DiscontinuitySurface>& surfaces,
+                                    OccluderPlaneMemo* memo, const OccluderPlaneReuse* reuse) {
+  // Appended to the caller's list (no list of their own made and moved over each frame: a
+  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
+  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const double reach = 2 * scene.extent.diagonalLength();
-  std::vector<DiscontinuitySurface> surfaces;
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
       movedPolygonsListed(grid, scene, reuse);
   const WorldPolygon& lightPolygon = scene.polygons[light];
@@ -460,14 +467,14 @@ std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
       }
     }
   }
-  return surfaces;
 }
 
-std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
-                                                       const EdgeAdjacency& adjacency,
-                                                       const std::vector<CoplanarEdgePair>& pairs,
-                                                       PolygonId light, SurfaceId firstId) {
-  std::vector<DiscontinuitySurface> surfaces;
+void coplanarEdgeSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                          const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
+                          SurfaceId appendedFirstId, std::vector<DiscontinuitySurface>& surfaces) {
+  // Appended to the caller's list (no list of their own made and moved over each frame: a
+  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
+  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   for (const CoplanarEdgePair& pair : pairs) {
@@ -523,13 +530,17 @@ std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
     s.fan = {t, t, a + e * u0, a + e * u1, {{c, d}}};
     surfaces.push_back(std::move(s));
   }
-  return surfaces;
 }
 
-std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId,
-    CoplanarCrossingMemo* memo, const CoplanarCrossingReuse* reuse) {
+void coplanarEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                  const UniformGrid& grid,
+                                  const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
+                                  SurfaceId appendedFirstId,
+                                  std::vector<DiscontinuitySurface>& surfaces,
+                                  CoplanarCrossingMemo* memo, const CoplanarCrossingReuse* reuse) {
+  // Appended to the caller's list (no list of their own made and moved over each frame: a
+  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
+  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const double reach = 2 * scene.extent.diagonalLength();
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
@@ -543,7 +554,6 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     unique.push_back(std::uint64_t(std::uint32_t(low)) << 32 | std::uint32_t(high));
   }
   sortUnique(unique);
-  std::vector<DiscontinuitySurface> surfaces;
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
       movedPolygonsListed(grid, scene, reuse);
   // The pair that last examined each edge (a stamp, not a flag cleared per pair: clearing a
@@ -704,13 +714,16 @@ std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
     }
     if (memo) memo->pairs.push_back({pair.first, pair.second, std::move(runs), region});
   }
-  return surfaces;
 }
 
-std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency,
-    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId,
-    ParallelCrossingMemo* memo, const ParallelCrossingReuse* reuse) {
+void parallelEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                  const std::vector<DiscontinuitySurface>& evSurfaces,
+                                  PolygonId light, SurfaceId appendedFirstId,
+                                  std::vector<DiscontinuitySurface>& surfaces,
+                                  ParallelCrossingMemo* memo, const ParallelCrossingReuse* reuse) {
+  // Appended to the caller's list (no list of their own made and moved over each frame: a
+  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
+  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   const size_t n = lv.size();
@@ -776,7 +789,6 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
     return std::nullopt;
   };
   const double apart = 1e-9 * scene.extent.diagonalLength();
-  std::vector<DiscontinuitySurface> surfaces;
   for (size_t begin = 0; begin < fansOfPlanes.size();) {
     const size_t lightEdge = fansOfPlanes[begin].lightEdge;
     const EdgeId edgeId = fansOfPlanes[begin].edge;
@@ -871,7 +883,6 @@ std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
       memo->byFirstFan.push_back({memo->planes[j].fans.front(), j});
     std::sort(memo->byFirstFan.begin(), memo->byFirstFan.end());
   }
-  return surfaces;
 }
 
 }  // namespace penumbra

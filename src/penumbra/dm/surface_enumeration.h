@@ -45,10 +45,14 @@ using OccluderPlaneReuse = FoundByItemReuse;
 // Occluder vertex V × occluder edge E (V not on E), both in front of the light, E a silhouette
 // seen from V: the lines through V and E that meet the light, one surface per connected range of
 // them. Candidate edges come from the grid cells around the shaft from the light through V.
-std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    PolygonId light, SurfaceId firstId, NonEmitterEvMemo* memo = nullptr,
-    const NonEmitterEvReuse* reuse = nullptr);
+// Appended to `surfaces`, the first numbered appendedFirstId and the rest on from it (as are the
+// surfaces of every enumeration below).
+void enumerateNonEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                   const UniformGrid& grid, PolygonId light,
+                                   SurfaceId appendedFirstId,
+                                   std::vector<DiscontinuitySurface>& surfaces,
+                                   NonEmitterEvMemo* memo = nullptr,
+                                   const NonEmitterEvReuse* reuse = nullptr);
 
 // For every occluder polygon whose plane cuts the light (light vertices strictly on both sides):
 // from each point T where the plane crosses a light edge, one fan through each edge of the polygon
@@ -57,10 +61,12 @@ std::vector<DiscontinuitySurface> enumerateNonEmitterEvSurfaces(
 // (SurfaceKind::kOccluderPlaneOccluderEdge); and for each of the polygon's own vertices V, the
 // lines of the plane through V tangent to the polygon that meet the light
 // (SurfaceKind::kOccluderPlaneOccluderVertex).
-std::vector<DiscontinuitySurface> enumerateOccluderPlaneSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    PolygonId light, SurfaceId firstId, OccluderPlaneMemo* memo = nullptr,
-    const OccluderPlaneReuse* reuse = nullptr);
+void enumerateOccluderPlaneSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                    const UniformGrid& grid, PolygonId light,
+                                    SurfaceId appendedFirstId,
+                                    std::vector<DiscontinuitySurface>& surfaces,
+                                    OccluderPlaneMemo* memo = nullptr,
+                                    const OccluderPlaneReuse* reuse = nullptr);
 
 // A light edge and two coplanar occluder edges (EdgeAdjacency ids) that some line meets.
 struct CoplanarEdgePair {
@@ -72,10 +78,9 @@ struct CoplanarEdgePair {
 // fan from T through the first edge restricted to the lines that also meet the second
 // (SurfaceKind::kLightEdgeCoplanarEdges); the pairs come from the EEE enumeration, which finds
 // them where it finds the light-edge EEE surfaces (enumerateEeeSurfaces).
-std::vector<DiscontinuitySurface> coplanarEdgeSurfaces(const PosedScene& scene,
-                                                       const EdgeAdjacency& adjacency,
-                                                       const std::vector<CoplanarEdgePair>& pairs,
-                                                       PolygonId light, SurfaceId firstId);
+void coplanarEdgeSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                          const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
+                          SurfaceId appendedFirstId, std::vector<DiscontinuitySurface>& surfaces);
 
 // The surfaces one polygon gave an item in one frame: that frame's ids first, first + 1, ...
 // (their indices among its surfaces).
@@ -114,10 +119,13 @@ struct CoplanarCrossingReuse {
 // other occluder edge crossing that plane at X, the lines of the plane through X that meet the
 // light's trace in the plane and both edges (SurfaceKind::kCoplanarEdgesOccluderCrossing).
 // Candidate edges come from the grid cells around the shaft from the light through the pair.
-std::vector<DiscontinuitySurface> coplanarEdgeCrossingSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency, const UniformGrid& grid,
-    const std::vector<CoplanarEdgePair>& pairs, PolygonId light, SurfaceId firstId,
-    CoplanarCrossingMemo* memo = nullptr, const CoplanarCrossingReuse* reuse = nullptr);
+void coplanarEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                  const UniformGrid& grid,
+                                  const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
+                                  SurfaceId appendedFirstId,
+                                  std::vector<DiscontinuitySurface>& surfaces,
+                                  CoplanarCrossingMemo* memo = nullptr,
+                                  const CoplanarCrossingReuse* reuse = nullptr);
 
 // For every light-vertex EV fan (cast: its stored intersections filled) whose occluder edge lies
 // in one plane with a light edge at that vertex, and every point X where another polygon's
@@ -155,9 +163,11 @@ struct ParallelCrossingReuse {
   std::vector<int>& takenFrom;  // per surface returned: its index in the frame before, else -1
 };
 
-std::vector<DiscontinuitySurface> parallelEdgeCrossingSurfaces(
-    const PosedScene& scene, const EdgeAdjacency& adjacency,
-    const std::vector<DiscontinuitySurface>& evSurfaces, PolygonId light, SurfaceId firstId,
-    ParallelCrossingMemo* memo = nullptr, const ParallelCrossingReuse* reuse = nullptr);
+void parallelEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
+                                  const std::vector<DiscontinuitySurface>& evSurfaces,
+                                  PolygonId light, SurfaceId appendedFirstId,
+                                  std::vector<DiscontinuitySurface>& surfaces,
+                                  ParallelCrossingMemo* memo = nullptr,
+                                  const ParallelCrossingReuse* reuse = nullptr);
 
 }  // namespace penumbra
