@@ -208,5 +208,44 @@ TEST(DmUpdate, FullComputationDoesNotDependOnWhatRanBefore) {
   }
 }
 
+// The totals over every receiver are summed when the statistics are first read after a build or
+// an update (DiscontinuityMeshEngine::stats): read twice they are the same, and they are those of
+// the meshes the engine holds now, counted here receiver by receiver.
+TEST(DmUpdate, StatisticsCountTheMeshesHeldNowWheneverTheyAreRead) {
+  const Scene scene = load("office-desk/desk-145.json");
+  DynamicScene live(scene, 0);
+  DiscontinuityMeshEngine engine;
+  const auto expectCounts = [&](const std::string& what) {
+    long long vertices = 0, faces = 0, unresolved = 0;
+    for (const WorldPolygon& polygon : engine.posedScene().polygons) {
+      const ReceiverMesh* mesh = engine.meshOf(polygon.id);
+      if (!mesh) continue;
+      vertices += mesh->vertexCount();
+      faces += (long long)mesh->faces().size();
+      for (int f = 0; f < int(mesh->faces().size()); ++f)
+        unresolved += engine.isUnresolved(polygon.id, f) ? 1 : 0;
+    }
+    const DmStats first = engine.stats();
+    EXPECT_EQ(first.meshVertices, vertices) << what;
+    EXPECT_EQ(first.meshFaces, faces) << what;
+    EXPECT_EQ(first.unresolvedFaces, unresolved) << what;
+    EXPECT_GT(first.updateCacheBytes, 0u) << what;
+    const DmStats& again = engine.stats();
+    EXPECT_EQ(again.meshVertices, first.meshVertices) << what;
+    EXPECT_EQ(again.meshFaces, first.meshFaces) << what;
+    EXPECT_EQ(again.backprojectionVertices, first.backprojectionVertices) << what;
+    EXPECT_EQ(again.updateCacheBytes, first.updateCacheBytes) << what;
+  };
+  engine.build(live);
+  expectCounts("build");
+  for (int frame = 1; frame < scene.frames; ++frame) {
+    const SceneChange change = live.changeToFrame(frame);
+    live.apply(change);
+    engine.update(live, change);
+    // Not read after one update: the next sums only its own meshes.
+    if (frame % 2 == 0) expectCounts("frame " + std::to_string(frame));
+  }
+}
+
 }  // namespace
 }  // namespace penumbra
