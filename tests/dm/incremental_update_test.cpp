@@ -17,6 +17,7 @@
 #include "penumbra/lighting/exact_reference.h"
 #include "penumbra/scene/scene_loader.h"
 #include "penumbra/spatial/uniform_grid.h"
+#include "support/rigid_moves.h"
 #include "support/temp_dir.h"
 
 namespace penumbra {
@@ -71,34 +72,21 @@ TEST(DmUpdate, ArbitraryMovesOfAnOccluderAndOfTheLightEqualFullRecomputation) {
   DynamicScene live(scene, 0);
   DiscontinuityMeshEngine engine;
   engine.build(live);
-  int light = -1, block = -1;
-  for (int o = 0; o < int(scene.objects.size()); ++o) {
-    for (int m : scene.objects[o].polygonMaterial)
-      if (scene.materials[m].isEmitter()) light = o;
-    if (scene.objects[o].isDynamic()) block = o;
-  }
+  const auto [light, block] = test::lightAndMovingObject(scene);
   ASSERT_GE(light, 0);
   ASSERT_GE(block, 0);
-  const auto turnAbout = [&](int object, double radians, const Vec3& shift) {
-    const PosedScene& posed = live.posed();
-    Box3 box;
-    for (PolygonId id = posed.objectFirstPolygon[object]; id < posed.objectFirstPolygon[object + 1];
-         ++id)
-      box.extend(posed.polygons[id].bounds);
-    const Vec3 c = box.center();
-    const Quaternion q = Quaternion::fromAxisAngle({0, 1, 0}, radians);
-    return Transform::fromTrs(c + shift - q.toMatrix() * c, q, {1, 1, 1}) *
-           live.transformOf(object);
-  };
   const auto step = [&](const SceneChange& change, const std::string& what) {
     live.apply(change);
     engine.update(live, change);
     expectEqualsFull(engine, live, what);
   };
-  step(live.changeMoving(block, turnAbout(block, 0.4, {0.03, 0, -0.02})), "block turned");
-  step(live.changeMoving(block, turnAbout(block, -0.1, {0, 0.05, 0})), "block lifted");
+  step(live.changeMoving(block, test::turnedAbout(live, block, 0.4, {0.03, 0, -0.02})),
+       "block turned");
+  step(live.changeMoving(block, test::turnedAbout(live, block, -0.1, {0, 0.05, 0})),
+       "block lifted");
   EXPECT_GT(engine.stats().carriedInputs, 0);
-  step(live.changeMoving(light, turnAbout(light, 0.2, {0.05, -0.01, 0})), "light moved");
+  step(live.changeMoving(light, test::turnedAbout(live, light, 0.2, {0.05, -0.01, 0})),
+       "light moved");
   // A moved light changes every receiver's light-plane and horizon events: nothing carried.
   EXPECT_EQ(engine.stats().carriedInputs, 0);
   step(live.changeToFrame(2), "back on the keyframes at frame 2");

@@ -14,6 +14,7 @@
 #include "penumbra/dm/surface_key.h"
 #include "penumbra/geometry/transform.h"
 #include "penumbra/scene/scene_loader.h"
+#include "support/rigid_moves.h"
 #include "support/temp_dir.h"
 
 namespace penumbra {
@@ -107,34 +108,22 @@ TEST(SurfaceKeys, NameTheSameSurfaceAfterAnUpdateAsInAFullBuild) {
   DynamicScene live(scene, 0);
   DiscontinuityMeshEngine engine;
   engine.build(live);
-  int light = -1, block = -1;
-  for (int o = 0; o < int(scene.objects.size()); ++o) {
-    for (int m : scene.objects[o].polygonMaterial)
-      if (scene.materials[m].isEmitter()) light = o;
-    if (scene.objects[o].isDynamic()) block = o;
-  }
+  const auto [light, block] = test::lightAndMovingObject(scene);
   ASSERT_GE(light, 0);
   ASSERT_GE(block, 0);
-  const auto moved_ = [&](int object, double radians, const Vec3& shift) {
-    const PosedScene& posed = live.posed();
-    Box3 box;
-    for (PolygonId id = posed.objectFirstPolygon[object]; id < posed.objectFirstPolygon[object + 1];
-         ++id)
-      box.extend(posed.polygons[id].bounds);
-    const Vec3 c = box.center();
-    const Quaternion q = Quaternion::fromAxisAngle({0, 1, 0}, radians);
-    return Transform::fromTrs(c + shift - q.toMatrix() * c, q, {1, 1, 1}) *
-           live.transformOf(object);
-  };
   const auto step = [&](const SceneChange& change, const std::string& what) {
     live.apply(change);
     engine.update(live, change);
     expectSameSurfacesByKey(engine, live, what, moved);
   };
-  step(live.changeMoving(block, moved_(block, 0.4, {0.03, 0, -0.02})), "block turned");
-  step(live.changeMoving(block, moved_(block, -0.1, {0, 0.05, 0})), "block lifted");
-  step(live.changeMoving(block, moved_(block, 0.2, {0, -0.05, 0})), "block set down");
-  step(live.changeMoving(light, moved_(light, 0.2, {0.05, -0.01, 0})), "light moved");
+  step(live.changeMoving(block, test::turnedAbout(live, block, 0.4, {0.03, 0, -0.02})),
+       "block turned");
+  step(live.changeMoving(block, test::turnedAbout(live, block, -0.1, {0, 0.05, 0})),
+       "block lifted");
+  step(live.changeMoving(block, test::turnedAbout(live, block, 0.2, {0, -0.05, 0})),
+       "block set down");
+  step(live.changeMoving(light, test::turnedAbout(live, light, 0.2, {0.05, -0.01, 0})),
+       "light moved");
   step(live.changeToFrame(2), "back on the keyframes at frame 2");
   // Today an update's list holds the surfaces in the order of a full build's (the keys agree
   // by position too); the keys are for lists that will not.
