@@ -509,10 +509,26 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     if (fanHashes_.size() <= index) fanHashes_.resize(index + 1);
     fanHashes_[index] = hash;
   };
+  // Likewise their cells' blocks, carried with the casts.
+  const auto blockOfCells = [&](const std::vector<int>& cells) {
+    CellBlock block;
+    for (int cell : cells) block.extend(grid_->cellCoordinates(cell));
+    return block;
+  };
+  std::vector<CellBlock> previousBlocks;
+  if (change) previousBlocks = std::move(cellBlocks_);
+  const bool blocksKnown = previousBlocks.size() == previousSurfaces.size();
+  cellBlocks_ = std::move(spareCellBlocks_);
+  cellBlocks_.clear();
+  const auto recordBlock = [&](size_t index, const CellBlock& block) {
+    if (cellBlocks_.size() <= index) cellBlocks_.resize(index + 1);
+    cellBlocks_[index] = block;
+  };
   std::vector<char> movedCells;
   // The lowest and highest of them: a surface's cells (sorted) are looked at only in that range,
   // found by bisection (a large room's hundreds of thousands of surfaces lie mostly elsewhere).
   int lowestMovedCell = std::numeric_limits<int>::max(), highestMovedCell = -1;
+  CellBlock movedBlock;  // and the block around them
   if (change) {
     movedCells.assign(grid_->resolution().cellCount(), 0);
     for (const ObjectMove& move : change->moves)
@@ -521,6 +537,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
           movedCells[cell] = 1;
           lowestMovedCell = std::min(lowestMovedCell, cell);
           highestMovedCell = std::max(highestMovedCell, cell);
+          movedBlock.extend(grid_->cellCoordinates(cell));
         });
   }
   const auto crossesMovedCells = [&](const std::vector<int>& sortedCells) {
@@ -551,7 +568,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
       keptCast.resize(index + 1, 0);
     }
     previousIndex[index] = int(then);
-    if (crossesMovedCells(surface.cells)) {
+    const CellBlock block = blocksKnown ? previousBlocks[then] : blockOfCells(surface.cells);
+    recordBlock(index, block);
+    if (block.meets(movedBlock) && crossesMovedCells(surface.cells)) {
       recastMoved(surface, *posed_, *grid_, movedPolygons, movedCells);
       ++stats_.recastMovedCasts;
     } else {
@@ -567,6 +586,7 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
         previousByFan.take(hash, [&](size_t i) { return sameFan(previousSurfaces[i], surface); });
     if (!then) {
       castSurface(surface, *posed_, *grid_);
+      recordBlock(index, blockOfCells(surface.cells));
       return;
     }
     DiscontinuitySurface& before = previousSurfaces[*then];
@@ -1164,8 +1184,10 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     previousEee.clear();
     spareEee_ = std::move(previousEee);
     spareFanHashes_ = previousByFan.releaseHashes();
+    previousBlocks.clear();
+    spareCellBlocks_ = std::move(previousBlocks);
   }
-  CHECK(fanHashes_.size() == surfaces_.size());
+  CHECK(fanHashes_.size() == surfaces_.size() && cellBlocks_.size() == surfaces_.size());
 }
 
 const DmStats& DiscontinuityMeshEngine::stats() const {
@@ -1206,7 +1228,8 @@ size_t DiscontinuityMeshEngine::updateCacheBytes() const {
                plane.fans.capacity() * sizeof(size_t);
   }
   bytes += afterCastingStorage_.capacity() * sizeof(DiscontinuitySurface);
-  bytes += (fanHashes_.capacity() + spareFanHashes_.capacity()) * sizeof(std::size_t);
+  bytes += (fanHashes_.capacity() + spareFanHashes_.capacity()) * sizeof(std::size_t) +
+           (cellBlocks_.capacity() + spareCellBlocks_.capacity()) * sizeof(CellBlock);
   for (const auto& [light, crossings] : eeeCrossings_)
     bytes += crossings.capacity() * sizeof(EeeCrossing);
   for (const auto& pieces : visible_)
