@@ -659,15 +659,15 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     NonEmitterEvMemo& memo = nonEmitter_[light];
     const std::optional<NonEmitterEvReuse> nonEmitterReuse =
         reuseOf(previousNonEmitter, light, &UnchangedTopology::vertices);
-    enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light, SurfaceId(surfaces_.size()),
-                                  surfaces_, &memo, nonEmitterReuse ? &*nonEmitterReuse : nullptr);
+    enumerateNonEmitterEvSurfaces(scene, *adjacency_, *grid_, light, 0, surfaces_, &memo,
+                                  nonEmitterReuse ? &*nonEmitterReuse : nullptr);
     stats_.keptNonEmitterVertices += memo.kept;
     stats_.examinedNonEmitterVertices += memo.examined;
     OccluderPlaneMemo& planes = occluderPlanes_[light];
     const std::optional<OccluderPlaneReuse> planeReuse =
         reuseOf(previousOccluderPlanes, light, &UnchangedTopology::polygons);
-    enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light, SurfaceId(surfaces_.size()),
-                                   surfaces_, &planes, planeReuse ? &*planeReuse : nullptr);
+    enumerateOccluderPlaneSurfaces(scene, *adjacency_, *grid_, light, 0, surfaces_, &planes,
+                                   planeReuse ? &*planeReuse : nullptr);
     stats_.keptOccluderPlanes += planes.kept;
     stats_.examinedOccluderPlanes += planes.examined;
   }
@@ -866,8 +866,9 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
   };
   const std::vector<PolygonId> eeeLights =
       options_.eeeSurfaces ? scene.lights : std::vector<PolygonId>{};
-  // Planar surfaces made from what casting found: parallel-edge crossings and coplanar edges.
-  // (In storage kept from frame to frame, as the surfaces' own list.)
+  // Planar surfaces made from what casting found: parallel-edge crossings and coplanar edges,
+  // numbered after surfaces_ (afterCasting[k] is surface surfaces_.size() + k). (In storage kept
+  // from frame to frame, as the surfaces' own list.)
   std::vector<DiscontinuitySurface>& afterCasting = afterCastingStorage_;
   afterCasting.clear();
   // Their planes' surfaces are read from the frame before's where the planes' fans kept their
@@ -906,9 +907,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
                   ParallelCrossingReuse{before->second, sameCutsAs, previousSurfaces, takenFrom})
             : std::nullopt;
     ParallelCrossingMemo& memo = parallelCrossings_[light];
-    parallelEdgeCrossingSurfaces(scene, *adjacency_, surfaces_, light,
-                                 SurfaceId(surfaces_.size() + afterCasting.size()), afterCasting,
-                                 &memo, parallelReuse ? &*parallelReuse : nullptr);
+    parallelEdgeCrossingSurfaces(scene, *adjacency_, surfaces_, light, SurfaceId(surfaces_.size()),
+                                 afterCasting, &memo, parallelReuse ? &*parallelReuse : nullptr);
     markTakenWhole();
     stats_.keptParallelPlanes += memo.keptPlanes;
     stats_.examinedParallelPlanes += memo.examinedPlanes;
@@ -919,8 +919,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     for (EeeSurface& s : enumerateEeeSurfaces(scene, *adjacency_, surfaces_, light, 0, &pairs,
                                               &eeeCandidates_, reuseCandidates))
       eeeSurfaces_.push_back(std::move(s));
-    coplanarEdgeSurfaces(scene, *adjacency_, pairs, light,
-                         SurfaceId(surfaces_.size() + afterCasting.size()), afterCasting);
+    coplanarEdgeSurfaces(scene, *adjacency_, pairs, light, SurfaceId(surfaces_.size()),
+                         afterCasting);
     if (!options_.coplanarEdgeCrossings) continue;
     // Offered on the non-emitter enumeration's terms: the same polygons, edges and light.
     const auto before = previousCoplanar.find(light);
@@ -933,8 +933,8 @@ void DiscontinuityMeshEngine::compute(const SceneChange* change) {
     CoplanarCrossingMemo& memo = coplanarCrossings_[light];
     const size_t crossingsBefore = afterCasting.size();
     coplanarEdgeCrossingSurfaces(scene, *adjacency_, *grid_, pairs, light,
-                                 SurfaceId(surfaces_.size() + afterCasting.size()), afterCasting,
-                                 &memo, coplanarReuse ? &*coplanarReuse : nullptr);
+                                 SurfaceId(surfaces_.size()), afterCasting, &memo,
+                                 coplanarReuse ? &*coplanarReuse : nullptr);
     stats_.surfacesCoplanarEdgeCrossing += int(afterCasting.size() - crossingsBefore);
     markTakenWhole();
     stats_.keptCoplanarPairs += memo.keptPairs;

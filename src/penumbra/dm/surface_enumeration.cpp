@@ -213,13 +213,9 @@ void enumerateEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& ad
 }
 
 void enumerateNonEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
-                                   const UniformGrid& grid, PolygonId light,
-                                   SurfaceId appendedFirstId,
+                                   const UniformGrid& grid, PolygonId light, SurfaceId firstId,
                                    std::vector<DiscontinuitySurface>& surfaces,
                                    NonEmitterEvMemo* memo, const NonEmitterEvReuse* reuse) {
-  // Appended to the caller's list (no list of their own made and moved over each frame: a
-  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
-  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
       movedPolygonsListed(grid, scene, reuse);
   const WorldPolygon& lightPolygon = scene.polygons[light];
@@ -308,13 +304,9 @@ void enumerateNonEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency&
 }
 
 void enumerateOccluderPlaneSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
-                                    const UniformGrid& grid, PolygonId light,
-                                    SurfaceId appendedFirstId,
+                                    const UniformGrid& grid, PolygonId light, SurfaceId firstId,
                                     std::vector<DiscontinuitySurface>& surfaces,
                                     OccluderPlaneMemo* memo, const OccluderPlaneReuse* reuse) {
-  // Appended to the caller's list (no list of their own made and moved over each frame: a
-  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
-  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const double reach = 2 * scene.extent.diagonalLength();
   const std::optional<UniformGrid::ListedPolygons> listedMoved =
       movedPolygonsListed(grid, scene, reuse);
@@ -471,10 +463,7 @@ void enumerateOccluderPlaneSurfaces(const PosedScene& scene, const EdgeAdjacency
 
 void coplanarEdgeSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
                           const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
-                          SurfaceId appendedFirstId, std::vector<DiscontinuitySurface>& surfaces) {
-  // Appended to the caller's list (no list of their own made and moved over each frame: a
-  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
-  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
+                          SurfaceId firstId, std::vector<DiscontinuitySurface>& surfaces) {
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   for (const CoplanarEdgePair& pair : pairs) {
@@ -535,12 +524,8 @@ void coplanarEdgeSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacenc
 void coplanarEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
                                   const UniformGrid& grid,
                                   const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
-                                  SurfaceId appendedFirstId,
-                                  std::vector<DiscontinuitySurface>& surfaces,
+                                  SurfaceId firstId, std::vector<DiscontinuitySurface>& surfaces,
                                   CoplanarCrossingMemo* memo, const CoplanarCrossingReuse* reuse) {
-  // Appended to the caller's list (no list of their own made and moved over each frame: a
-  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
-  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const double reach = 2 * scene.extent.diagonalLength();
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Plane& lightPlane = lightPolygon.plane;
@@ -718,12 +703,9 @@ void coplanarEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& 
 
 void parallelEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
                                   const std::vector<DiscontinuitySurface>& evSurfaces,
-                                  PolygonId light, SurfaceId appendedFirstId,
+                                  PolygonId light, SurfaceId firstId,
                                   std::vector<DiscontinuitySurface>& surfaces,
                                   ParallelCrossingMemo* memo, const ParallelCrossingReuse* reuse) {
-  // Appended to the caller's list (no list of their own made and moved over each frame: a
-  // large room's run to tens of thousands); surfaces[k] is numbered firstId + k.
-  const SurfaceId firstId = appendedFirstId - SurfaceId(surfaces.size());
   const WorldPolygon& lightPolygon = scene.polygons[light];
   const Polygon3& lv = lightPolygon.vertices;
   const size_t n = lv.size();

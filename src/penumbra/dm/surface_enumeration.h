@@ -45,11 +45,11 @@ using OccluderPlaneReuse = FoundByItemReuse;
 // Occluder vertex V × occluder edge E (V not on E), both in front of the light, E a silhouette
 // seen from V: the lines through V and E that meet the light, one surface per connected range of
 // them. Candidate edges come from the grid cells around the shaft from the light through V.
-// Appended to `surfaces`, the first numbered appendedFirstId and the rest on from it (as are the
-// surfaces of every enumeration below).
+// Appended to the caller's list `surfaces`, whose k-th surface is numbered firstId + k (as are
+// the surfaces of every enumeration below): no list of their own made and moved over every frame
+// (a large room's run to tens of thousands).
 void enumerateNonEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
-                                   const UniformGrid& grid, PolygonId light,
-                                   SurfaceId appendedFirstId,
+                                   const UniformGrid& grid, PolygonId light, SurfaceId firstId,
                                    std::vector<DiscontinuitySurface>& surfaces,
                                    NonEmitterEvMemo* memo = nullptr,
                                    const NonEmitterEvReuse* reuse = nullptr);
@@ -62,8 +62,7 @@ void enumerateNonEmitterEvSurfaces(const PosedScene& scene, const EdgeAdjacency&
 // lines of the plane through V tangent to the polygon that meet the light
 // (SurfaceKind::kOccluderPlaneOccluderVertex).
 void enumerateOccluderPlaneSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
-                                    const UniformGrid& grid, PolygonId light,
-                                    SurfaceId appendedFirstId,
+                                    const UniformGrid& grid, PolygonId light, SurfaceId firstId,
                                     std::vector<DiscontinuitySurface>& surfaces,
                                     OccluderPlaneMemo* memo = nullptr,
                                     const OccluderPlaneReuse* reuse = nullptr);
@@ -80,7 +79,7 @@ struct CoplanarEdgePair {
 // them where it finds the light-edge EEE surfaces (enumerateEeeSurfaces).
 void coplanarEdgeSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
                           const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
-                          SurfaceId appendedFirstId, std::vector<DiscontinuitySurface>& surfaces);
+                          SurfaceId firstId, std::vector<DiscontinuitySurface>& surfaces);
 
 // The surfaces one polygon gave an item in one frame: that frame's ids first, first + 1, ...
 // (their indices among its surfaces).
@@ -122,8 +121,7 @@ struct CoplanarCrossingReuse {
 void coplanarEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
                                   const UniformGrid& grid,
                                   const std::vector<CoplanarEdgePair>& pairs, PolygonId light,
-                                  SurfaceId appendedFirstId,
-                                  std::vector<DiscontinuitySurface>& surfaces,
+                                  SurfaceId firstId, std::vector<DiscontinuitySurface>& surfaces,
                                   CoplanarCrossingMemo* memo = nullptr,
                                   const CoplanarCrossingReuse* reuse = nullptr);
 
@@ -165,7 +163,7 @@ struct ParallelCrossingReuse {
 
 void parallelEdgeCrossingSurfaces(const PosedScene& scene, const EdgeAdjacency& adjacency,
                                   const std::vector<DiscontinuitySurface>& evSurfaces,
-                                  PolygonId light, SurfaceId appendedFirstId,
+                                  PolygonId light, SurfaceId firstId,
                                   std::vector<DiscontinuitySurface>& surfaces,
                                   ParallelCrossingMemo* memo = nullptr,
                                   const ParallelCrossingReuse* reuse = nullptr);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <map>
-#include <tuple>
 
 #include "penumbra/base/check.h"
 #include "penumbra/base/hash_doubles.h"
